@@ -1,0 +1,48 @@
+// Constraints between node coordinates. All are at most quadratic in q (constant Hessians).
+#pragma once
+
+#include "core/Element.hpp"
+
+namespace flexsens {
+
+/// Constant distance: Phi = |x_b - x_a|^2 - L^2 (quadratic form, as in the paper).
+class DistanceConstraint : public Constraint {
+ public:
+  DistanceConstraint(std::string name, int a, int b, Quantity length)
+      : Constraint(std::move(name), {a, b}), length_(length) {}
+  std::string kind() const override { return "distance"; }
+  int rows() const override { return 1; }
+  void phi(const LocalState& s, VecX& out) const override;
+  void jacobian(const LocalState& s, MatX& J) const override;
+  void hessian(const LocalState& s, int r, MatX& H) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override {
+    return {{"length", &length_}};
+  }
+
+ private:
+  Quantity length_;  ///< [m]
+};
+
+/// Fixed node: Phi = x - x_fix (dim rows), for free nodes held in place.
+class FixedNodeConstraint : public Constraint {
+ public:
+  FixedNodeConstraint(std::string name, int node, VecX position)
+      : Constraint(std::move(name), {node}), position_(std::move(position)) {}
+  std::string kind() const override { return "fixed"; }
+  int rows() const override { return static_cast<int>(position_.size()); }
+  void phi(const LocalState& s, VecX& out) const override { out = s.x - position_; }
+  void jacobian(const LocalState& s, MatX& J) const override {
+    J = MatX::Identity(s.x.size(), s.x.size());
+  }
+  void hessian(const LocalState& s, int, MatX& H) const override {
+    H.setZero(s.x.size(), s.x.size());
+  }
+  bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
+
+ private:
+  VecX position_;  ///< [m]
+};
+
+}  // namespace flexsens

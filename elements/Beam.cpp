@@ -1,0 +1,220 @@
+#include "elements/Beam.hpp"
+
+#include <cmath>
+
+namespace flexsens {
+
+// ---------------------------------------------------------------- BeamSection
+double BeamSection::A(const VecX& p) const {
+  if (!square) return area.value(p);
+  const double a = side.value(p);
+  return a * a;
+}
+double BeamSection::I(const VecX& p) const {
+  if (!square) return inertia.value(p);
+  const double a = side.value(p);
+  return a * a * a * a / 12.0;
+}
+double BeamSection::dA(const VecX& p, int k) const {
+  if (!square) return area.boundTo(k) ? 1.0 : 0.0;
+  return side.boundTo(k) ? 2.0 * side.value(p) : 0.0;  // d(a^2)/da
+}
+double BeamSection::dI(const VecX& p, int k) const {
+  if (!square) return inertia.boundTo(k) ? 1.0 : 0.0;
+  const double a = side.value(p);
+  return side.boundTo(k) ? a * a * a / 3.0 : 0.0;  // d(a^4/12)/da
+}
+double BeamSection::dEA(const VecX& p, int k) const {
+  return (E.boundTo(k) ? A(p) : 0.0) + E.value(p) * dA(p, k);
+}
+double BeamSection::dEI(const VecX& p, int k) const {
+  return (E.boundTo(k) ? I(p) : 0.0) + E.value(p) * dI(p, k);
+}
+double BeamSection::drhoA(const VecX& p, int k) const {
+  return (density.boundTo(k) ? A(p) : 0.0) + density.value(p) * dA(p, k);
+}
+std::vector<std::pair<std::string, Quantity*>> BeamSection::properties() {
+  std::vector<std::pair<std::string, Quantity*>> r{{"E", &E}, {"density", &density}};
+  if (square) {
+    r.push_back({"side", &side});
+  } else {
+    r.push_back({"area", &area});
+    r.push_back({"inertia", &inertia});
+  }
+  return r;
+}
+
+namespace {
+VecX gravityOf(const LocalState& s) {
+  return s.gravity ? VecX(*s.gravity) : VecX(VecX::Zero(s.dim));
+}
+}  // namespace
+
+// ---------------------------------------------------------------- BeamSegment
+BeamSegment::BeamSegment(std::string name, std::vector<int> nodes,
+                         std::shared_ptr<BeamSection> section, double restLength)
+    : Element(std::move(name), std::move(nodes)), sec_(std::move(section)), L_(restLength) {
+  if (this->nodes().size() != 2) throw std::invalid_argument("beam_segment " + this->name() + ": needs 2 nodes");
+  if (!sec_) throw std::invalid_argument("beam_segment " + this->name() + ": no section");
+  if (!(L_ > 0.0)) throw std::invalid_argument("beam_segment " + this->name() + ": rest length must be > 0");
+}
+
+namespace {
+/// Unit axis n and current length l of a segment; throws on bad dim or zero length.
+double segmentAxis(const Element& e, const LocalState& s, VecX& n) {
+  if (s.dim != 2 && s.dim != 3) throw std::invalid_argument("beam_segment " + e.name() + ": dim must be 2 or 3");
+  n = s.x.segment(s.dim, s.dim) - s.x.segment(0, s.dim);
+  const double l = n.norm();
+  if (!(l > 0.0)) throw NumericalError("beam_segment " + e.name() + ": zero current length");
+  n /= l;
+  return l;
+}
+}  // namespace
+
+bool BeamSegment::mass(const LocalState& s, MatX& M) const {
+  const int d = s.dim;
+  const double m6 = sec_->rhoA(*s.p) * L_ / 6.0;  // [kg]
+  M.setZero(2 * d, 2 * d);
+  for (int i = 0; i < d; ++i) {
+    M(i, i) = M(d + i, d + i) = 2.0 * m6;
+    M(i, d + i) = M(d + i, i) = m6;
+  }
+  return true;
+}
+
+void BeamSegment::force(const LocalState& s, VecX& Q) const {
+  VecX n;
+  const double l = segmentAxis(*this, s, n);
+  const int d = s.dim;
+  const double N = sec_->EA(*s.p) * (l - L_) / L_;         // axial force dU/dl [N]
+  const VecX G = 0.5 * sec_->rhoA(*s.p) * L_ * gravityOf(s);  // nodal weight [N]
+  Q.resize(2 * d);
+  Q.head(d) = N * n + G;
+  Q.tail(d) = -N * n + G;
+}
+
+void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  VecX n;
+  const double l = segmentAxis(*this, s, n);
+  const int d = s.dim;
+  const double EA = sec_->EA(*s.p), N = EA * (l - L_) / L_;
+  // K = d(N n)/d(x_b - x_a) = (EA/L) n n^T + (N/l)(I - n n^T)   [N/m]
+  const MatX nn = n * n.transpose();
+  const MatX K = (EA / L_) * nn + (N / l) * (MatX::Identity(d, d) - nn);
+  dQdq.resize(2 * d, 2 * d);
+  dQdq << -K, K, K, -K;
+  dQdv.setZero(2 * d, 2 * d);
+}
+
+bool BeamSegment::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  if (!sec_->axialDependsOn(k)) return false;
+  VecX n;
+  const double l = segmentAxis(*this, s, n);
+  const int d = s.dim;
+  const double dN = sec_->dEA(*s.p, k) * (l - L_) / L_;
+  const double drhoA = sec_->drhoA(*s.p, k);
+  const VecX dG = 0.5 * drhoA * L_ * gravityOf(s);
+  dQ.resize(2 * d);
+  dQ.head(d) = dN * n + dG;
+  dQ.tail(d) = -dN * n + dG;
+  const double dm6 = drhoA * L_ / 6.0;
+  dM.setZero(2 * d, 2 * d);
+  for (int i = 0; i < d; ++i) {
+    dM(i, i) = dM(d + i, d + i) = 2.0 * dm6;
+    dM(i, d + i) = dM(d + i, i) = dm6;
+  }
+  return true;
+}
+
+double BeamSegment::potential(const LocalState& s) const {
+  VecX n;
+  const double l = segmentAxis(*this, s, n);
+  const int d = s.dim;
+  const double eps = (l - L_) / L_;
+  const double mNode = 0.5 * sec_->rhoA(*s.p) * L_;
+  const VecX g = gravityOf(s);
+  // elastic energy minus work of gravity: U - sum m_node g . x_i  [J]
+  return 0.5 * sec_->EA(*s.p) * L_ * eps * eps -
+         mNode * g.dot(s.x.segment(0, d) + s.x.segment(d, d));
+}
+
+// ---------------------------------------------------------------- BeamHinge
+double BeamHinge::angle(const VecX& x) {
+  const Eigen::Vector2d e1 = x.segment<2>(2) - x.segment<2>(0), e2 = x.segment<2>(4) - x.segment<2>(2);
+  return std::atan2(e1.x() * e2.y() - e1.y() * e2.x(), e1.dot(e2));
+}
+
+BeamHinge::BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
+                     const VecX& restX, double voronoiLength)
+    : Element(std::move(name), std::move(nodes)), sec_(std::move(section)) {
+  const std::string who = "beam_hinge " + this->name();
+  if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
+  if (!sec_) throw std::invalid_argument(who + ": no section");
+  if (restX.size() != 6) throw std::invalid_argument(who + ": planar only (dim must be 2)");
+  const double L1 = (restX.segment<2>(2) - restX.segment<2>(0)).norm();
+  const double L2 = (restX.segment<2>(4) - restX.segment<2>(2)).norm();
+  if (!(L1 > 0.0 && L2 > 0.0)) throw std::invalid_argument(who + ": zero rest length");
+  phi0_ = angle(restX);
+  D_ = voronoiLength > 0.0 ? voronoiLength : 0.5 * (L1 + L2);
+}
+
+double BeamHinge::deviation(const LocalState& s, VecX* g, MatX* H) const {
+  if (s.dim != 2) throw std::invalid_argument("beam_hinge " + name() + ": planar only (dim must be 2)");
+  const double dphi = std::remainder(angle(s.x) - phi0_, 2.0 * M_PI);
+  if (!g && !H) return dphi;
+  // phi = theta(e2) - theta(e1), theta(e) = atan2(e_y, e_x):
+  //   dtheta/de = J e / |e|^2,  d2theta/de2 = -(J e e^T + e (J e)^T) / |e|^4,  J = rot(+90 deg).
+  const Eigen::Vector2d e1 = s.x.segment<2>(2) - s.x.segment<2>(0), e2 = s.x.segment<2>(4) - s.x.segment<2>(2);
+  const double r1 = e1.squaredNorm(), r2 = e2.squaredNorm();
+  if (!(r1 > 0.0 && r2 > 0.0)) throw NumericalError("beam_hinge " + name() + ": zero edge length");
+  const Eigen::Vector2d J1(-e1.y(), e1.x()), J2(-e2.y(), e2.x());
+  const Eigen::Vector2d g1 = -J1 / r1, g2 = J2 / r2;  // dphi/de1, dphi/de2 [1/m]
+  if (g) {
+    g->resize(6);
+    *g << -g1, g1 - g2, g2;  // e1 = x_b - x_a, e2 = x_c - x_b
+  }
+  if (H) {
+    const Eigen::Matrix2d H1 = (J1 * e1.transpose() + e1 * J1.transpose()) / (r1 * r1);   // d2phi/de1^2
+    const Eigen::Matrix2d H2 = -(J2 * e2.transpose() + e2 * J2.transpose()) / (r2 * r2);  // d2phi/de2^2
+    H->setZero(6, 6);
+    H->block<2, 2>(0, 0) = H1;
+    H->block<2, 2>(0, 2) = -H1;
+    H->block<2, 2>(2, 0) = -H1;
+    H->block<2, 2>(2, 2) = H1 + H2;
+    H->block<2, 2>(2, 4) = -H2;
+    H->block<2, 2>(4, 2) = -H2;
+    H->block<2, 2>(4, 4) = H2;
+  }
+  return dphi;
+}
+
+void BeamHinge::force(const LocalState& s, VecX& Q) const {
+  VecX g;
+  const double dphi = deviation(s, &g, nullptr);
+  Q = -(sec_->EI(*s.p) / D_) * dphi * g;  // [N]
+}
+
+void BeamHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  VecX g;
+  MatX H;
+  const double dphi = deviation(s, &g, &H);
+  // Hess U = k_b (g g^T + (phi - phi0) Hess phi), k_b = EI / D [N m]
+  dQdq = -(sec_->EI(*s.p) / D_) * (g * g.transpose() + dphi * H);
+  dQdv.setZero(6, 6);
+}
+
+bool BeamHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  if (!sec_->bendingDependsOn(k)) return false;
+  VecX g;
+  const double dphi = deviation(s, &g, nullptr);
+  dQ = -(sec_->dEI(*s.p, k) / D_) * dphi * g;
+  dM.setZero(6, 6);
+  return true;
+}
+
+double BeamHinge::potential(const LocalState& s) const {
+  const double dphi = deviation(s, nullptr, nullptr);
+  return 0.5 * (sec_->EI(*s.p) / D_) * dphi * dphi;  // [J]
+}
+
+}  // namespace flexsens

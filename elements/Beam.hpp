@@ -1,0 +1,100 @@
+// Positions-only (rotation-free) nonlinear beam: axial segments + bending hinges.
+//
+// Why this variant: nodes carry Cartesian positions only (no slopes, no rotations), as in the
+// paper's beam. A beam of one segment is then a pure axial bar (two nodes, energy depends on
+// the length only), and a beam of two segments adds just the midpoint's coordinates, whose
+// hinge carries the bending energy. Axial energy per segment (engineering strain), bending
+// energy per interior node from the turning angle (discrete-elastic-rod / Flores-Onate type),
+// consistent bar mass. See /work/shared/reference/beams-and-checks.md.
+//
+// Units: E [Pa], density [kg/m^3], area [m^2], inertia [m^4], side [m]; EA [N], EI [N m^2],
+// rhoA [kg/m]; positions [m], forces [N], energies [J].
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/Element.hpp"
+
+namespace flexsens {
+
+/// Cross-section and material of one beam, shared by its segments and hinges.
+struct BeamSection {
+  Quantity E;        ///< Young's modulus [Pa]
+  Quantity density;  ///< [kg/m^3]
+  Quantity area;     ///< A [m^2] (explicit form)
+  Quantity inertia;  ///< I [m^4] (explicit form)
+  Quantity side;     ///< square side a [m]: A = a^2, I = a^4/12 (square form)
+  bool square = false;  ///< true: section from side; false: from area and inertia
+
+  double A(const VecX& p) const;
+  double I(const VecX& p) const;
+  double EA(const VecX& p) const { return E.value(p) * A(p); }
+  double EI(const VecX& p) const { return E.value(p) * I(p); }
+  double rhoA(const VecX& p) const { return density.value(p) * A(p); }
+  /// Partial derivatives with respect to design parameter k (chain rule through side).
+  double dA(const VecX& p, int k) const;
+  double dI(const VecX& p, int k) const;
+  double dEA(const VecX& p, int k) const;
+  double dEI(const VecX& p, int k) const;
+  double drhoA(const VecX& p, int k) const;
+  /// Structural dependence (binding), independent of the current values.
+  bool areaDependsOn(int k) const { return square ? side.boundTo(k) : area.boundTo(k); }
+  bool inertiaDependsOn(int k) const { return square ? side.boundTo(k) : inertia.boundTo(k); }
+  bool axialDependsOn(int k) const { return E.boundTo(k) || density.boundTo(k) || areaDependsOn(k); }
+  bool bendingDependsOn(int k) const { return E.boundTo(k) || inertiaDependsOn(k); }
+  /// Named quantities ("E", "density", then "side" or "area", "inertia").
+  std::vector<std::pair<std::string, Quantity*>> properties();
+};
+
+/// Two-node axial segment (dim 2 or 3): U = 1/2 EA L eps^2, eps = (l - L)/L; consistent mass
+/// (rho A L / 6) [[2I, I], [I, 2I]]; gravity rho A L g / 2 on each node.
+class BeamSegment : public Element {
+ public:
+  /// restLength L [m] > 0, the node distance in the rest shape.
+  BeamSegment(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
+              double restLength);
+  std::string kind() const override { return "beam_segment"; }
+  bool mass(const LocalState& s, MatX& M) const override;
+  void force(const LocalState& s, VecX& Q) const override;
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
+  double restLength() const { return L_; }
+
+ private:
+  std::shared_ptr<BeamSection> sec_;
+  double L_;
+};
+
+/// Three-node planar bending hinge at node b between e1 = x_b - x_a and e2 = x_c - x_b:
+/// phi = atan2(e1 x e2, e1 . e2), U = 1/2 (EI / D) (phi - phi0)^2, D = (L1 + L2)/2 [m].
+/// Massless, no gravity. Planar only (dim 2).
+class BeamHinge : public Element {
+ public:
+  /// restX: rest positions of a, b, c (6 entries) giving phi0, L1, L2. voronoiLength > 0
+  /// overrides D (e.g. D = L2/2 at a clamp whose node a is a ghost outside the beam).
+  BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
+            const VecX& restX, double voronoiLength = 0.0);
+  std::string kind() const override { return "beam_hinge"; }
+  void force(const LocalState& s, VecX& Q) const override;
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
+  double restAngle() const { return phi0_; }
+  double voronoiLength() const { return D_; }
+  /// Turning angle phi [rad] of positions x (6 entries), in (-pi, pi].
+  static double angle(const VecX& x);
+
+ private:
+  /// (phi - phi0) wrapped to (-pi, pi], and optionally dphi/dx (6) and d2phi/dx2 (6x6).
+  double deviation(const LocalState& s, VecX* g, MatX* H) const;
+  std::shared_ptr<BeamSection> sec_;
+  double phi0_, D_;
+};
+
+}  // namespace flexsens

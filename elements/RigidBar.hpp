@@ -1,0 +1,50 @@
+// Uniform slender rigid bar between two nodes in natural coordinates: the endpoints are the
+// coordinates, so the mass matrix is constant, M = m/6 [[2I, I], [I, 2I]], and gravity puts
+// half the weight on each end. Rigidity comes from a distance constraint the builder adds.
+#pragma once
+
+#include "core/Element.hpp"
+
+namespace flexsens {
+
+class RigidBar : public Element {
+ public:
+  RigidBar(std::string name, int a, int b, Quantity mass)
+      : Element(std::move(name), {a, b}), mass_(mass) {}
+  std::string kind() const override { return "rigid_bar"; }
+  bool mass(const LocalState& s, MatX& M) const override;
+  void force(const LocalState& s, VecX& Q) const override;
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override {
+    return {{"mass", &mass_}};
+  }
+
+ private:
+  Quantity mass_;  ///< [kg]
+};
+
+/// Massless linear spring-damper: tension f = k (l - L0) + c l', acting along the line of nodes.
+class SpringDamper : public Element {
+ public:
+  SpringDamper(std::string name, int a, int b, Quantity k, Quantity c, Quantity L0)
+      : Element(std::move(name), {a, b}), k_(k), c_(c), L0_(L0) {}
+  std::string kind() const override { return "spring_damper"; }
+  void force(const LocalState& s, VecX& Q) const override;
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override {
+    return {{"stiffness", &k_}, {"damping", &c_}, {"natural_length", &L0_}};
+  }
+
+ private:
+  struct Geometry;
+  Geometry geometry(const LocalState& s) const;
+  Quantity k_;   ///< [N/m]
+  Quantity c_;   ///< [N s/m]
+  Quantity L0_;  ///< natural length [m]
+};
+
+}  // namespace flexsens

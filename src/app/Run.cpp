@@ -1,0 +1,137 @@
+#include "app/Run.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include "integrators/FixedStep.hpp"
+#include "integrators/Idas.hpp"
+#include "integrators/InitialState.hpp"
+#include "output/ResultWriter.hpp"
+
+namespace flexsens {
+
+void applyOptions(Scene& sc, const RunOptions& opt) {
+  auto& s = sc.integrator;
+  if (opt.integrator) {
+    if (*opt.integrator != "idas" && *opt.integrator != "trapezoidal" && *opt.integrator != "bdf1")
+      throw InputError("option --integrator: expected idas, trapezoidal or bdf1, got '" + *opt.integrator + "'");
+    s.type = *opt.integrator;
+  }
+  if (opt.tEnd) {
+    if (!(*opt.tEnd > 0)) throw InputError("option --t-end: expected a positive time in seconds");
+    s.tEnd = *opt.tEnd;
+  }
+  if (opt.dt) {
+    if (!(*opt.dt > 0)) throw InputError("option --dt: expected a positive step in seconds");
+    s.dt = *opt.dt;
+    if (s.frameInterval < s.dt) s.frameInterval = s.dt;
+  }
+  if (s.type != "idas" && !(s.dt > 0))
+    throw InputError(sc.file + ": key 'integrator.dt': the " + s.type +
+                     " integrator needs a fixed step dt (give it in the scene or with --dt)");
+  if (s.frameInterval > s.tEnd) s.frameInterval = s.tEnd;
+  if (opt.outDir) sc.output.directory = *opt.outDir;
+}
+
+StateWithSens initialState(const Assembler& as, const VecX& p) {
+  const Model& m = as.model();
+  StateWithSens s;
+  s.x.t = 0.0;
+  s.x.q = projectPositions(as, m.initialPositions(), p);
+  s.x.v = projectVelocities(as, s.x.q, m.initialVelocities(), p);
+  solveAccelerations(as, s.x, p);
+  SparseAccumulator acc;
+  acc.begin(as.m(), as.n());
+  as.addPhiQ(acc, s.x.q, p, 1.0, 0, 0, false);
+  const MatX J = MatX(acc.finish());
+  const auto cod = J.completeOrthogonalDecomposition();
+  for (size_t k = 0; k < m.parameters.size(); ++k) {
+    State d;
+    const int kk = static_cast<int>(k);
+    if (as.m()) {
+      d.q = cod.solve(VecX(-as.phiParamDerivative(s.x.q, p, kk)));
+      d.v = cod.solve(VecX(-(as.hessianRowsTimes(s.x.q, p, s.x.v, d.q) +
+                             as.phiQParamDerivativeTimes(s.x.q, p, kk, s.x.v))));
+    } else {
+      d.q = VecX::Zero(as.n());
+      d.v = VecX::Zero(as.n());
+    }
+    solveAccelerationSensitivity(as, s.x, p, kk, d);
+    s.dp.push_back(d);
+  }
+  return s;
+}
+
+IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,
+                          const IntegratorSettings& set, Observer& obs) {
+  return set.type == "idas" ? integrateIdas(as, p, start, set, obs)
+                            : integrateFixedStep(as, p, start, set, obs);
+}
+
+namespace {
+
+void writeSummary(const std::string& path, const Scene& sc, const IntegratorStats& st, double wall,
+                  const std::string& status, const std::string& error,
+                  const std::vector<std::string>& files) {
+  const Model& m = *sc.model;
+  std::ofstream js(path);
+  js << "{\n";
+  js << "  \"status\": " << jsonString(status) << ",\n";
+  if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
+  js << "  \"scene\": " << jsonString(sc.file) << ",\n";
+  js << "  \"integrator\": {\"type\": " << jsonString(sc.integrator.type)
+     << ", \"t_end\": " << jsonNumber(sc.integrator.tEnd) << ", \"dt\": " << jsonNumber(sc.integrator.dt)
+     << ", \"rtol\": " << jsonNumber(sc.integrator.rtol) << ", \"atol\": " << jsonNumber(sc.integrator.atol) << "},\n";
+  js << "  \"n\": " << m.n << ", \"m\": " << m.m << ", \"d\": " << m.n - m.m << ",\n";
+  js << "  \"coordinates\": [";
+  for (int i = 0; i < m.n; ++i) js << (i ? ", " : "") << jsonString(m.coordinateLabel(i));
+  js << "],\n  \"parameters\": [";
+  for (size_t k = 0; k < m.parameters.size(); ++k)
+    js << (k ? ", " : "") << "{\"name\": " << jsonString(m.parameters[k].name) << ", \"bound_to\": "
+       << jsonString(m.parameters[k].boundTo) << ", \"nominal\": " << jsonNumber(m.parameters[k].nominal) << "}";
+  js << "],\n";
+  js << "  \"statistics\": {\"steps\": " << st.steps << ", \"newton_iterations\": " << st.newtonIterations
+     << ", \"factorizations\": " << st.factorizations << ", \"residual_evaluations\": " << st.residualEvaluations
+     << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
+     << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << "},\n";
+  js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
+  js << "  \"wall_time_s\": " << jsonNumber(wall) << ",\n";
+  js << "  \"files\": [";
+  for (size_t i = 0; i < files.size(); ++i)
+    js << (i ? ", " : "") << jsonString(std::filesystem::path(files[i]).filename().string());
+  js << "]\n}\n";
+}
+
+}  // namespace
+
+RunResult runScene(const Scene& sc, const std::string& outDir) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const VecX p = m.nominalParameters();
+  const StateWithSens start = initialState(as, p);  // before any file is written
+
+  std::filesystem::create_directories(outDir);
+  const std::string summary = outDir + "/summary.json";
+  std::filesystem::remove(summary);  // a stale summary must not describe this run
+  ResultWriter writer(sc, outDir, "");
+  RunResult res;
+  res.directory = outDir;
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  try {
+    res.stats = integrate(as, p, start, sc.integrator, writer);
+  } catch (const std::exception& e) {
+    writer.close();
+    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files());
+    throw;
+  }
+  writer.close();
+  res.wallSeconds = elapsed();
+  writeSummary(summary, sc, res.stats, res.wallSeconds, "complete", "", writer.files());
+  return res;
+}
+
+}  // namespace flexsens

@@ -1,0 +1,38 @@
+// One run of a scene: consistent initial state (and sensitivities), integration, output.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/Assembler.hpp"
+#include "integrators/State.hpp"
+#include "scene/Scene.hpp"
+
+namespace flexsens {
+
+/// Command-line overrides of the scene's settings.
+struct RunOptions {
+  std::optional<std::string> outDir;
+  std::optional<std::string> integrator;
+  std::optional<double> tEnd, dt;
+};
+
+struct RunResult {
+  std::string directory;
+  IntegratorStats stats;
+  double wallSeconds = 0.0;
+};
+
+/// Applies the overrides to the scene settings; throws InputError naming the option.
+void applyOptions(Scene& scene, const RunOptions& opt);
+/// Consistent initial state at t = 0 for parameters p; sensitivities by the least-norm
+/// rule (Phi_q q_p = -Phi_p with smallest |q_p|) until a PIM case says otherwise.
+StateWithSens initialState(const Assembler& as, const VecX& p);
+/// Integrates from `start` with the scene's integrator, sending frames to `obs`.
+IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,
+                          const IntegratorSettings& set, Observer& obs);
+/// Runs the scene, writes results into outDir; on failure marks summary.json as failed
+/// and rethrows.
+RunResult runScene(const Scene& scene, const std::string& outDir);
+
+}  // namespace flexsens

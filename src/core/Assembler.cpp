@@ -1,0 +1,306 @@
+#include "core/Assembler.hpp"
+
+namespace flexsens {
+
+namespace {
+std::vector<int> iota(int start, int count) {
+  std::vector<int> r(count);
+  for (int i = 0; i < count; ++i) r[i] = start + i;
+  return r;
+}
+}  // namespace
+
+Assembler::Assembler(const Model& model) : model_(model) {
+  for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes()));
+  int row = 0;
+  for (const auto& c : model_.constraints) {
+    consDofs_.push_back(dofMap(c->nodes()));
+    consRow_.push_back(row);
+    row += c->rows();
+  }
+}
+
+std::vector<int> Assembler::dofMap(const std::vector<int>& nodes) const {
+  std::vector<int> map;
+  for (int nd : nodes)
+    for (int c = 0; c < model_.dim; ++c) map.push_back(model_.dof(nd, c));
+  return map;
+}
+
+LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
+                                 const VecX& p) const {
+  const int d = model_.dim;
+  LocalState s;
+  s.dim = d;
+  s.x.resize(d * nodes.size());
+  s.v.setZero(d * nodes.size());
+  for (size_t a = 0; a < nodes.size(); ++a) {
+    const Node& nd = model_.nodes[nodes[a]];
+    if (nd.ground) {
+      s.x.segment(d * a, d) = nd.position;
+    } else {
+      s.x.segment(d * a, d) = q.segment(nd.firstDof, d);
+      if (v.size()) s.v.segment(d * a, d) = v.segment(nd.firstDof, d);
+    }
+  }
+  s.p = &p;
+  s.gravity = &model_.gravity;
+  return s;
+}
+
+// ----------------------------------------------------------------------------- vectors
+VecX Assembler::force(const VecX& q, const VecX& v, const VecX& p) const {
+  VecX Q = VecX::Zero(n());
+  VecX Ql;
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    el.force(localState(el.nodes(), q, v, p), Ql);
+    const auto& map = elemDofs_[e];
+    for (size_t i = 0; i < map.size(); ++i)
+      if (map[i] >= 0) Q[map[i]] += Ql[i];
+  }
+  return Q;
+}
+
+VecX Assembler::phi(const VecX& q, const VecX& p) const {
+  VecX r(m());
+  VecX pl;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    co.phi(localState(co.nodes(), q, VecX(), p), pl);
+    r.segment(consRow_[c], co.rows()) = pl;
+  }
+  return r;
+}
+
+VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
+  VecX r = VecX::Zero(m());
+  MatX J;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    co.jacobian(localState(co.nodes(), q, VecX(), p), J);
+    const auto& map = consDofs_[c];
+    for (size_t j = 0; j < map.size(); ++j)
+      if (map[j] >= 0) r.segment(consRow_[c], co.rows()) += J.col(j) * x[map[j]];
+  }
+  return r;
+}
+
+VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const {
+  VecX r = VecX::Zero(n());
+  MatX J;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    co.jacobian(localState(co.nodes(), q, VecX(), p), J);
+    const auto& map = consDofs_[c];
+    const VecX g = J.transpose() * l.segment(consRow_[c], co.rows());
+    for (size_t j = 0; j < map.size(); ++j)
+      if (map[j] >= 0) r[map[j]] += g[j];
+  }
+  return r;
+}
+
+namespace {
+VecX gather(const std::vector<int>& map, const VecX& x) {
+  VecX r = VecX::Zero(map.size());
+  for (size_t i = 0; i < map.size(); ++i)
+    if (map[i] >= 0) r[i] = x[map[i]];
+  return r;
+}
+}  // namespace
+
+VecX Assembler::hessianQuadratic(const VecX& q, const VecX& p, const VecX& v) const {
+  return hessianRowsTimes(q, p, v, v);
+}
+
+VecX Assembler::hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const {
+  VecX r = VecX::Zero(m());
+  MatX H;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    const LocalState s = localState(co.nodes(), q, VecX(), p);
+    const VecX vl = gather(consDofs_[c], v), xl = gather(consDofs_[c], x);
+    for (int i = 0; i < co.rows(); ++i) {
+      co.hessian(s, i, H);
+      r[consRow_[c] + i] = vl.dot(H * xl);
+    }
+  }
+  return r;
+}
+
+VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const {
+  VecX r = VecX::Zero(n());
+  MatX H;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    const LocalState s = localState(co.nodes(), q, VecX(), p);
+    const auto& map = consDofs_[c];
+    const VecX xl = gather(map, x);
+    for (int i = 0; i < co.rows(); ++i) {
+      co.hessian(s, i, H);
+      const VecX g = w[consRow_[c] + i] * (H * xl);
+      for (size_t j = 0; j < map.size(); ++j)
+        if (map[j] >= 0) r[map[j]] += g[j];
+    }
+  }
+  return r;
+}
+
+SpMat Assembler::mass(const VecX& p) const {
+  SparseAccumulator acc;
+  acc.begin(n(), n());
+  addMass(acc, p, 1.0, 0, 0);
+  return acc.finish();
+}
+
+double Assembler::potentialEnergy(const VecX& q, const VecX& p) const {
+  double U = 0.0;
+  for (const auto& el : model_.elements) U += el->potential(localState(el->nodes(), q, VecX(), p));
+  return U;
+}
+
+// ----------------------------------------------------------------------------- blocks
+void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0,
+                        int64_t c0) const {
+  MatX Ml;
+  const VecX none;
+  const VecX q0 = model_.initialPositions();  // mass is configuration independent
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    const LocalState ls = localState(el.nodes(), q0, none, p);
+    if (el.mass(ls, Ml)) acc.addBlock(elemDofs_[e], elemDofs_[e], Ml, s, r0, c0);
+  }
+}
+
+void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v,
+                                 const VecX& p, double sq, double sv, int64_t r0, int64_t cq,
+                                 int64_t cv) const {
+  MatX Kq, Kv;
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    el.forceJacobian(localState(el.nodes(), q, v, p), Kq, Kv);
+    if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq, r0, cq);
+    if (sv != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kv, -sv, r0, cv);
+  }
+}
+
+void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, double s,
+                        int64_t r0, int64_t c0, bool transposed) const {
+  MatX J;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    co.jacobian(localState(co.nodes(), q, VecX(), p), J);
+    const std::vector<int> rows = iota(consRow_[c], co.rows());
+    if (transposed)
+      acc.addBlock(consDofs_[c], rows, J.transpose(), s, r0, c0);
+    else
+      acc.addBlock(rows, consDofs_[c], J, s, r0, c0);
+  }
+}
+
+void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p, const VecX& w,
+                           double s, int64_t r0, int64_t c0) const {
+  MatX H, sum;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    const LocalState ls = localState(co.nodes(), q, VecX(), p);
+    const int nl = static_cast<int>(consDofs_[c].size());
+    sum.setZero(nl, nl);
+    for (int i = 0; i < co.rows(); ++i) {
+      co.hessian(ls, i, H);
+      sum += w[consRow_[c] + i] * H;
+    }
+    acc.addBlock(consDofs_[c], consDofs_[c], sum, s, r0, c0);
+  }
+}
+
+void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX& p,
+                               const VecX& v, double s, int64_t r0, int64_t c0) const {
+  MatX H;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    const LocalState ls = localState(co.nodes(), q, VecX(), p);
+    const VecX vl = gather(consDofs_[c], v);
+    MatX rowsBlock(co.rows(), consDofs_[c].size());
+    for (int i = 0; i < co.rows(); ++i) {
+      co.hessian(ls, i, H);
+      rowsBlock.row(i) = (H * vl).transpose();
+    }
+    acc.addBlock(iota(consRow_[c], co.rows()), consDofs_[c], rowsBlock, s, r0, c0);
+  }
+}
+
+// ------------------------------------------------------------------ parameter derivatives
+VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k) const {
+  VecX r = VecX::Zero(n());
+  VecX dQ;
+  MatX dM;
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    if (!el.parameterDerivative(localState(el.nodes(), q, v, p), k, dQ, dM)) continue;
+    const auto& map = elemDofs_[e];
+    for (size_t i = 0; i < map.size(); ++i)
+      if (map[i] >= 0) r[map[i]] += dQ[i];
+  }
+  return r;
+}
+
+VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) const {
+  VecX r = VecX::Zero(n());
+  VecX dQ;
+  MatX dM;
+  const VecX q0 = model_.initialPositions();
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    if (!el.parameterDerivative(localState(el.nodes(), q0, VecX(), p), k, dQ, dM)) continue;
+    if (dM.size() == 0) continue;
+    const auto& map = elemDofs_[e];
+    const VecX g = dM * gather(map, a);
+    for (size_t i = 0; i < map.size(); ++i)
+      if (map[i] >= 0) r[map[i]] += g[i];
+  }
+  return r;
+}
+
+VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {
+  VecX r = VecX::Zero(m());
+  VecX dphi;
+  MatX dJ;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    if (co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ))
+      r.segment(consRow_[c], co.rows()) = dphi;
+  }
+  return r;
+}
+
+VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, const VecX& x) const {
+  VecX r = VecX::Zero(m());
+  VecX dphi;
+  MatX dJ;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    if (co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ) && dJ.size())
+      r.segment(consRow_[c], co.rows()) = dJ * gather(consDofs_[c], x);
+  }
+  return r;
+}
+
+VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, int k,
+                                                  const VecX& l) const {
+  VecX r = VecX::Zero(n());
+  VecX dphi;
+  MatX dJ;
+  for (size_t c = 0; c < model_.constraints.size(); ++c) {
+    const auto& co = *model_.constraints[c];
+    if (!co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ) || !dJ.size())
+      continue;
+    const VecX g = dJ.transpose() * l.segment(consRow_[c], co.rows());
+    const auto& map = consDofs_[c];
+    for (size_t j = 0; j < map.size(); ++j)
+      if (map[j] >= 0) r[map[j]] += g[j];
+  }
+  return r;
+}
+
+}  // namespace flexsens

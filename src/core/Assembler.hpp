@@ -1,0 +1,73 @@
+// The one assembly path: global vectors and sparse blocks of
+//   M q'' + Phi_q^T lambda = Q(q, v, p),   Phi(q, p) = 0
+// and their derivatives, gathered from the elements' and constraints' local kernels.
+// Integrators compose their Newton matrices from these blocks through a SparseAccumulator,
+// so each block is written once, at a row/column offset and with a scale chosen by the caller.
+#pragma once
+
+#include <vector>
+
+#include "core/Model.hpp"
+#include "core/SparseAccumulator.hpp"
+
+namespace flexsens {
+
+class Assembler {
+ public:
+  explicit Assembler(const Model& model);
+  const Model& model() const { return model_; }
+  int n() const { return model_.n; }
+  int m() const { return model_.m; }
+
+  // --- vectors -----------------------------------------------------------------------
+  VecX force(const VecX& q, const VecX& v, const VecX& p) const;          ///< Q [N]
+  VecX phi(const VecX& q, const VecX& p) const;                           ///< Phi
+  VecX phiQTimes(const VecX& q, const VecX& p, const VecX& x) const;      ///< Phi_q x
+  VecX phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const;  ///< Phi_q^T l
+  VecX hessianQuadratic(const VecX& q, const VecX& p, const VecX& v) const;  ///< (v^T H_i v)_i
+  VecX hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const;  ///< (sum w_i H_i) x
+  VecX hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const;  ///< (v^T H_i x)_i
+
+  /// Constant mass matrix M(p) (elements' masses do not depend on q).
+  SpMat mass(const VecX& p) const;
+  double potentialEnergy(const VecX& q, const VecX& p) const;
+
+  // --- sparse blocks, added as s * block at (r0, c0) ------------------------------------
+  void addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0, int64_t c0) const;
+  /// Adds -sq dQ/dq at (r0, cq) and -sv dQ/dv at (r0, cv).
+  void addForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v, const VecX& p,
+                        double sq, double sv, int64_t r0, int64_t cq, int64_t cv) const;
+  /// Phi_q at (r0, c0), or Phi_q^T when transposed.
+  void addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, double s, int64_t r0,
+               int64_t c0, bool transposed) const;
+  /// sum_i w_i Hess(Phi_i) at (r0, c0): the q-derivative of Phi_q^T w.
+  void addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p, const VecX& w, double s,
+                  int64_t r0, int64_t c0) const;
+  /// Rows (Hess(Phi_i) v)^T at (r0, c0): the q-derivative of Phi_q v.
+  void addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX& p, const VecX& v,
+                      double s, int64_t r0, int64_t c0) const;
+
+  // --- partial derivatives with respect to design parameter k -------------------------
+  VecX forceParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k) const;  ///< Q_p
+  VecX massParamDerivativeTimes(const VecX& p, int k, const VecX& a) const;           ///< M_p a
+  VecX phiParamDerivative(const VecX& q, const VecX& p, int k) const;                  ///< Phi_p
+  VecX phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, const VecX& x) const;  ///< Phi_qp x
+  VecX phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, int k,
+                                         const VecX& l) const;  ///< Phi_qp^T l
+
+  /// Local state of a node list (ground nodes included at their fixed positions).
+  LocalState localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
+                        const VecX& p) const;
+  const std::vector<int>& elementDofs(size_t e) const { return elemDofs_[e]; }
+  const std::vector<int>& constraintDofs(size_t c) const { return consDofs_[c]; }
+  int constraintRow(size_t c) const { return consRow_[c]; }
+
+ private:
+  std::vector<int> dofMap(const std::vector<int>& nodes) const;
+  const Model& model_;
+  std::vector<std::vector<int>> elemDofs_, consDofs_;
+  std::vector<int> consRow_;
+  std::vector<int> consRowsLocal_;
+};
+
+}  // namespace flexsens

@@ -1,0 +1,48 @@
+#include "core/Model.hpp"
+
+namespace flexsens {
+
+void Model::finalize() {
+  n = 0;
+  for (auto& nd : nodes) {
+    nd.firstDof = nd.ground ? -1 : n;
+    if (!nd.ground) n += dim;
+  }
+  m = 0;
+  for (const auto& c : constraints) m += c->rows();
+}
+
+int Model::nodeIndex(const std::string& name) const {
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+VecX Model::nominalParameters() const {
+  VecX p(parameters.size());
+  for (size_t k = 0; k < parameters.size(); ++k) p[k] = parameters[k].nominal;
+  return p;
+}
+
+VecX Model::initialPositions() const {
+  VecX q(n);
+  for (const auto& nd : nodes)
+    if (!nd.ground) q.segment(nd.firstDof, dim) = nd.position;
+  return q;
+}
+
+VecX Model::initialVelocities() const {
+  VecX v(n);
+  for (const auto& nd : nodes)
+    if (!nd.ground) v.segment(nd.firstDof, dim) = nd.velocity;
+  return v;
+}
+
+std::string Model::coordinateLabel(int i) const {
+  for (const auto& nd : nodes)
+    if (!nd.ground && i >= nd.firstDof && i < nd.firstDof + dim)
+      return std::string(1, axisName(i - nd.firstDof)) + "(" + nd.name + ")";
+  return "?";
+}
+
+}  // namespace flexsens

@@ -1,0 +1,80 @@
+#include "core/SparseAccumulator.hpp"
+
+#include <algorithm>
+
+namespace flexsens {
+
+void SparseAccumulator::begin(int rows, int cols) {
+  if (rows != rows_ || cols != cols_) {
+    recording_ = true;
+    trip_.clear();
+    slot_.clear();
+    rows_ = rows;
+    cols_ = cols;
+  }
+  k_ = 0;
+  if (recording_) {
+    trip_.clear();
+    slot_.clear();
+  }
+  if (!recording_) std::fill(mat_.valuePtr(), mat_.valuePtr() + mat_.nonZeros(), 0.0);
+}
+
+void SparseAccumulator::addBlock(const std::vector<int>& rowMap, const std::vector<int>& colMap,
+                                 const MatX& B, double s, int64_t r0, int64_t c0) {
+  for (size_t j = 0; j < colMap.size(); ++j) {
+    if (colMap[j] < 0) continue;
+    for (size_t i = 0; i < rowMap.size(); ++i) {
+      if (rowMap[i] < 0) continue;
+      add(r0 + rowMap[i], c0 + colMap[j], s * B(i, j));
+    }
+  }
+}
+
+void SparseAccumulator::rebuildFrom(size_t k, int64_t r, int64_t c, double v) {
+  // Recover the values added so far in this pass, then switch back to recording.
+  for (size_t i = 0; i < k; ++i) trip_[i].v = mat_.valuePtr()[slot_[i]];
+  // Values of duplicates were summed into one slot: keep the sum on the first occurrence.
+  std::vector<bool> seen(mat_.nonZeros(), false);
+  for (size_t i = 0; i < k; ++i) {
+    if (seen[slot_[i]]) trip_[i].v = 0.0;
+    seen[slot_[i]] = true;
+  }
+  trip_.resize(k);
+  slot_.clear();
+  recording_ = true;
+  trip_.push_back({r, c, v});
+}
+
+void SparseAccumulator::build() {
+  std::vector<Eigen::Triplet<double, int64_t>> t;
+  t.reserve(trip_.size());
+  for (const auto& x : trip_) t.emplace_back(x.r, x.c, x.v);
+  mat_.resize(rows_, cols_);
+  mat_.setFromTriplets(t.begin(), t.end());
+  mat_.makeCompressed();
+  slot_.resize(trip_.size());
+  for (size_t i = 0; i < trip_.size(); ++i) {
+    const int64_t c = trip_[i].c;
+    const int64_t* begin = mat_.innerIndexPtr() + mat_.outerIndexPtr()[c];
+    const int64_t* end = mat_.innerIndexPtr() + mat_.outerIndexPtr()[c + 1];
+    slot_[i] = std::lower_bound(begin, end, trip_[i].r) - mat_.innerIndexPtr();
+  }
+}
+
+const SpMat& SparseAccumulator::finish() {
+  if (recording_) {
+    build();
+    recording_ = false;
+  } else if (k_ != slot_.size()) {
+    // Fewer additions than recorded: the sequence changed; rebuild from what this pass added.
+    rebuildFrom(k_, 0, 0, 0.0);
+    trip_.pop_back();
+    build();
+    recording_ = false;
+  }
+  k_ = 0;
+  return mat_;
+}
+
+}  // namespace flexsens

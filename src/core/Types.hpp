@@ -1,0 +1,37 @@
+// Basic numeric types shared by every layer.
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace flexsens {
+
+using VecX = Eigen::VectorXd;
+using MatX = Eigen::MatrixXd;
+/// Compressed-column sparse matrix with 64-bit indices, the layout SUNDIALS' KLU wants.
+using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int64_t>;
+
+/// A scalar model quantity (length, stiffness, mass, ...), either a constant or bound to a
+/// design parameter p[param]. Elements read it through value(p) so that the model itself
+/// stays immutable while parameters are perturbed.
+struct Quantity {
+  double constant = 0.0;
+  int param = -1;  ///< index into p, or -1
+  double value(const VecX& p) const { return param >= 0 ? p[param] : constant; }
+  bool boundTo(int k) const { return param == k; }
+};
+
+/// Error in user input (scene file, command line): message already names file:line and key.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Numerical failure (Newton, singular matrix, integrator): message names time, step, quantity.
+struct NumericalError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace flexsens

@@ -1,0 +1,19 @@
+// The paper's fixed-step integrators on the index-3 form: trapezoidal rule (Newmark
+// beta = 1/4, gamma = 1/2) and BDF-1 (backward Euler on q and v). Each step solves
+//   sigma (M a(q) + Phi_q^T lambda - Q(q, v(q))) = 0,  Phi(q) = 0
+// for q_{n+1} and lambda~ = sigma lambda with Newton and KLU, where a(q) = ca (q - q_n) + abar,
+// v(q) = cv (q - q_n) + vbar and sigma = 1/ca. Sensitivities are the exact derivative of
+// this discrete scheme: one more linear solve per parameter and step with the Newton matrix
+// factorized at the converged point.
+#pragma once
+
+#include "core/Assembler.hpp"
+#include "integrators/Settings.hpp"
+#include "integrators/State.hpp"
+
+namespace flexsens {
+
+IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWithSens start,
+                                   const IntegratorSettings& set, Observer& obs);
+
+}  // namespace flexsens

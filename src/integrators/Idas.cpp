@@ -1,0 +1,290 @@
+#include "integrators/Idas.hpp"
+
+#include <idas/idas.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <sstream>
+
+namespace flexsens {
+
+// ------------------------------------------------------------------ the GGL system
+VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y, const VecX& yp) {
+  const int n = as.n(), m = as.m();
+  const VecX q = y.segment(0, n), v = y.segment(n, n);
+  const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
+  VecX r(2 * (n + m));
+  r.segment(0, n) = yp.segment(0, n) - v + as.phiQTransposeTimes(q, p, mu);
+  r.segment(n, n) = M * yp.segment(n, n) + as.phiQTransposeTimes(q, p, lam) - as.force(q, v, p);
+  if (m) {
+    r.segment(2 * n, m) = as.phi(q, p);
+    r.segment(2 * n + m, m) = as.phiQTimes(q, p, v);
+  }
+  return r;
+}
+
+const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, double cj,
+                         SparseAccumulator& acc) {
+  const int n = as.n(), m = as.m();
+  const VecX q = y.segment(0, n), v = y.segment(n, n);
+  const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
+  acc.begin(2 * (n + m), 2 * (n + m));
+  for (int i = 0; i < n; ++i) {  // q rows: cj I + H(mu), -I, Phi_q^T (mu)
+    acc.add(i, i, cj);
+    acc.add(i, n + i, -1.0);
+  }
+  as.addHessian(acc, q, p, mu, 1.0, 0, 0);
+  as.addPhiQ(acc, q, p, 1.0, 0, 2 * n + m, true);
+  // v rows: H(lambda) - Q_q, cj M - Q_v, Phi_q^T (lambda)
+  as.addHessian(acc, q, p, lam, 1.0, n, 0);
+  as.addForceJacobian(acc, q, v, p, 1.0, 1.0, n, 0, n);
+  as.addMass(acc, p, cj, n, n);
+  as.addPhiQ(acc, q, p, 1.0, n, 2 * n, true);
+  // Phi rows: Phi_q; Phi_q v rows: d(Phi_q v)/dq, Phi_q
+  as.addPhiQ(acc, q, p, 1.0, 2 * n, 0, false);
+  as.addHessianRows(acc, q, p, v, 1.0, 2 * n + m, 0);
+  as.addPhiQ(acc, q, p, 1.0, 2 * n + m, n, false);
+  return acc.finish();
+}
+
+VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
+                            const VecX& yp, int k, const VecX& s, const VecX& sd) {
+  const int n = as.n(), m = as.m();
+  const VecX q = y.segment(0, n), v = y.segment(n, n);
+  const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
+  const VecX sq = s.segment(0, n), sv = s.segment(n, n);
+  const VecX sl = s.segment(2 * n, m), sm = s.segment(2 * n + m, m);
+  SparseAccumulator kq, kv;
+  kq.begin(n, n);
+  as.addForceJacobian(kq, q, v, p, -1.0, 0.0, 0, 0, 0);
+  kv.begin(n, n);
+  as.addForceJacobian(kv, q, v, p, 0.0, -1.0, 0, 0, 0);
+  VecX r(2 * (n + m));
+  r.segment(0, n) = sd.segment(0, n) - sv + as.phiQTransposeTimes(q, p, sm) +
+                    as.hessianTimes(q, p, mu, sq) + as.phiQParamDerivativeTransposeTimes(q, p, k, mu);
+  r.segment(n, n) = M * sd.segment(n, n) + as.massParamDerivativeTimes(p, k, yp.segment(n, n)) +
+                    as.phiQTransposeTimes(q, p, sl) + as.hessianTimes(q, p, lam, sq) +
+                    as.phiQParamDerivativeTransposeTimes(q, p, k, lam) - kq.finish() * sq -
+                    kv.finish() * sv - as.forceParamDerivative(q, v, p, k);
+  if (m) {
+    r.segment(2 * n, m) = as.phiQTimes(q, p, sq) + as.phiParamDerivative(q, p, k);
+    r.segment(2 * n + m, m) = as.phiQTimes(q, p, sv) + as.hessianRowsTimes(q, p, v, sq) +
+                              as.phiQParamDerivativeTimes(q, p, k, v);
+  }
+  return r;
+}
+
+namespace {
+
+// ------------------------------------------------------------ RAII for SUNDIALS objects
+struct ContextDeleter { void operator()(SUNContext c) const { SUNContext_Free(&c); } };
+struct VectorDeleter { void operator()(_generic_N_Vector* v) const { N_VDestroy(v); } };
+struct MatrixDeleter { void operator()(_generic_SUNMatrix* A) const { SUNMatDestroy(A); } };
+struct SolverDeleter { void operator()(_generic_SUNLinearSolver* S) const { SUNLinSolFree(S); } };
+struct IdaDeleter { void operator()(void* mem) const { IDAFree(&mem); } };
+using VectorPtr = std::unique_ptr<_generic_N_Vector, VectorDeleter>;
+
+struct Problem {
+  const Assembler* as;
+  const VecX* p;
+  int n, m;
+  SparseAccumulator acc;
+  SpMat M;
+  std::string lastError;  ///< last message from IDAS' error handler
+  std::string failure;    ///< exception text caught inside a callback
+};
+
+Eigen::Map<VecX> view(N_Vector v) { return {N_VGetArrayPointer(v), N_VGetLength(v)}; }
+
+void check(int flag, const char* fn, const Problem& pb, double t) {
+  if (flag >= 0) return;
+  std::ostringstream os;
+  os << "IDAS: " << fn << " failed at t = " << t << " s with " << IDAGetReturnFlagName(flag);
+  if (!pb.failure.empty()) os << " (" << pb.failure << ")";
+  else if (!pb.lastError.empty()) os << " (" << pb.lastError << ")";
+  if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL || flag == IDA_TOO_MUCH_WORK)
+    os << "; try a looser rtol/atol, a smaller maximum step (dt), or check the model's "
+          "stiffness and initial state";
+  throw NumericalError(os.str());
+}
+
+// Callbacks: thin wrappers over the GGL functions above (exceptions become return codes).
+int residual(double, N_Vector yy, N_Vector yp, N_Vector rr, void* ud) {
+  auto& pb = *static_cast<Problem*>(ud);
+  try {
+    auto r = view(rr);
+    r = gglResidual(*pb.as, *pb.p, pb.M, view(yy), view(yp));
+    return r.allFinite() ? 0 : 1;  // recoverable: IDAS retries with a smaller step
+  } catch (const std::exception& e) {
+    pb.failure = e.what();
+    return -1;
+  }
+}
+
+int jacobian(double, double cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix J, void* ud, N_Vector,
+             N_Vector, N_Vector) {
+  auto& pb = *static_cast<Problem*>(ud);
+  try {
+    const SpMat& A = gglJacobian(*pb.as, *pb.p, view(yy), cj, pb.acc);
+    if (SUNSparseMatrix_NNZ(J) < A.nonZeros()) SUNSparseMatrix_Reallocate(J, A.nonZeros());
+    std::memcpy(SUNSparseMatrix_IndexPointers(J), A.outerIndexPtr(), sizeof(int64_t) * (A.cols() + 1));
+    std::memcpy(SUNSparseMatrix_IndexValues(J), A.innerIndexPtr(), sizeof(int64_t) * A.nonZeros());
+    std::memcpy(SUNSparseMatrix_Data(J), A.valuePtr(), sizeof(double) * A.nonZeros());
+    return 0;
+  } catch (const std::exception& e) {
+    pb.failure = e.what();
+    return -1;
+  }
+}
+
+int sensResidual(int Ns, double, N_Vector yy, N_Vector yp, N_Vector, N_Vector* yS, N_Vector* ypS,
+                 N_Vector* rS, void* ud, N_Vector, N_Vector, N_Vector) {
+  auto& pb = *static_cast<Problem*>(ud);
+  try {
+    for (int k = 0; k < Ns; ++k) {
+      auto r = view(rS[k]);
+      r = gglSensitivityResidual(*pb.as, *pb.p, pb.M, view(yy), view(yp), k, view(yS[k]), view(ypS[k]));
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    pb.failure = e.what();
+    return -1;
+  }
+}
+
+void errorHandler(int, const char* module, const char* function, char* msg, void* ud) {
+  auto& pb = *static_cast<Problem*>(ud);
+  pb.lastError = std::string(module) + "/" + function + ": " + msg;
+}
+
+void pack(const State& s, int n, int m, N_Vector y, N_Vector yp) {
+  auto Y = view(y), D = view(yp);
+  Y.setZero();
+  D.setZero();
+  Y.segment(0, n) = s.q;
+  Y.segment(n, n) = s.v;
+  Y.segment(2 * n, m) = s.lambda;
+  D.segment(0, n) = s.v;
+  D.segment(n, n) = s.a;
+}
+
+State unpack(double t, N_Vector y, N_Vector yp, int n, int m) {
+  const auto Y = view(y), D = view(yp);
+  State s;
+  s.t = t;
+  s.q = Y.segment(0, n);
+  s.v = Y.segment(n, n);
+  s.lambda = Y.segment(2 * n, m);
+  s.a = D.segment(n, n);
+  return s;
+}
+
+}  // namespace
+
+IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWithSens& start,
+                              const IntegratorSettings& set, Observer& obs) {
+  const int n = as.n(), m = as.m();
+  const int N = 2 * (n + m);
+  const int Ns = static_cast<int>(start.dp.size());
+  Problem pb{&as, &p, n, m, {}, as.mass(p), {}, {}};
+  double t = start.x.t;
+
+  SUNContext rawCtx = nullptr;
+  if (SUNContext_Create(nullptr, &rawCtx) != 0) throw NumericalError("IDAS: SUNContext_Create failed");
+  std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDeleter> ctx(rawCtx);
+  VectorPtr y(N_VNew_Serial(N, ctx.get())), yp(N_VNew_Serial(N, ctx.get()));
+  VectorPtr id(N_VNew_Serial(N, ctx.get()));
+  pack(start.x, n, m, y.get(), yp.get());
+  view(id.get()).setZero();
+  view(id.get()).head(2 * n).setOnes();  // q, v differential; lambda, mu algebraic
+
+  std::unique_ptr<void, IdaDeleter> mem(IDACreate(ctx.get()));
+  if (!mem) throw NumericalError("IDAS: IDACreate failed");
+  void* ida = mem.get();
+  check(IDASetErrHandlerFn(ida, errorHandler, &pb), "IDASetErrHandlerFn", pb, t);
+  check(IDAInit(ida, residual, t, y.get(), yp.get()), "IDAInit", pb, t);
+  // Vector tolerances: the multipliers lambda, mu are out of the error test but still in the
+  // Newton convergence test, where the index-2 iteration matrix (condition ~ 1/h) cannot
+  // resolve them to rtol: with atol = rtol = 1e-10 the corrector fails at the first step.
+  // They get max(atol, sqrt(rtol)); positions and velocities keep rtol/atol.
+  VectorPtr atolv(N_VNew_Serial(N, ctx.get()));
+  view(atolv.get()).head(2 * n).setConstant(set.atol);
+  view(atolv.get()).tail(2 * m).setConstant(std::max(set.atol, std::sqrt(set.rtol)));
+  check(IDASVtolerances(ida, set.rtol, atolv.get()), "IDASVtolerances", pb, t);
+  check(IDASetUserData(ida, &pb), "IDASetUserData", pb, t);
+  check(IDASetId(ida, id.get()), "IDASetId", pb, t);
+  check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg", pb, t);
+  check(IDASetMaxNumSteps(ida, 1000000), "IDASetMaxNumSteps", pb, t);
+  if (set.dt > 0) check(IDASetMaxStep(ida, set.dt), "IDASetMaxStep", pb, t);
+
+  // Pattern: assemble once at the initial state to size the sparse matrix.
+  {
+    VectorPtr tmp(N_VNew_Serial(N, ctx.get()));
+    std::unique_ptr<_generic_SUNMatrix, MatrixDeleter> probe(SUNSparseMatrix(N, N, 1, CSC_MAT, ctx.get()));
+    if (jacobian(t, 1.0, y.get(), yp.get(), tmp.get(), probe.get(), &pb, nullptr, nullptr, nullptr) != 0)
+      throw NumericalError("IDAS: Jacobian assembly failed at t = " + std::to_string(t) + ": " + pb.failure);
+  }
+  std::unique_ptr<_generic_SUNMatrix, MatrixDeleter> J(
+      SUNSparseMatrix(N, N, pb.acc.matrix().nonZeros(), CSC_MAT, ctx.get()));
+  std::unique_ptr<_generic_SUNLinearSolver, SolverDeleter> LS(SUNLinSol_KLU(y.get(), J.get(), ctx.get()));
+  if (!J || !LS) throw NumericalError("IDAS: could not create the KLU linear solver");
+  check(IDASetLinearSolver(ida, LS.get(), J.get()), "IDASetLinearSolver", pb, t);
+  check(IDASetJacFn(ida, jacobian), "IDASetJacFn", pb, t);
+
+  std::vector<N_Vector> yS, ypS;
+  auto freeSens = [&]() {
+    for (auto v : yS) N_VDestroy(v);
+    for (auto v : ypS) N_VDestroy(v);
+  };
+  struct Guard { std::function<void()> f; ~Guard() { f(); } } guard{freeSens};
+  if (Ns > 0) {
+    for (int k = 0; k < Ns; ++k) {
+      yS.push_back(N_VNew_Serial(N, ctx.get()));
+      ypS.push_back(N_VNew_Serial(N, ctx.get()));
+      pack(start.dp[k], n, m, yS.back(), ypS.back());
+    }
+    check(IDASensInit(ida, Ns, IDA_STAGGERED, sensResidual, yS.data(), ypS.data()), "IDASensInit", pb, t);
+    check(IDASensEEtolerances(ida), "IDASensEEtolerances", pb, t);
+    check(IDASetSensErrCon(ida, set.sensitivityErrorControl ? SUNTRUE : SUNFALSE), "IDASetSensErrCon", pb, t);
+  }
+
+  IntegratorStats st;
+  obs.frame(start);
+  st.maxConstraintViolation = m ? as.phi(start.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
+  const long nframes = std::lround((set.tEnd - t) / set.frameInterval);
+  for (long f = 1; f <= nframes; ++f) {
+    const double tout = (f == nframes) ? set.tEnd : start.x.t + f * set.frameInterval;
+    check(IDASetStopTime(ida, tout), "IDASetStopTime", pb, t);
+    double tret = t;
+    check(IDASolve(ida, tout, &tret, y.get(), yp.get(), IDA_NORMAL), "IDASolve", pb, t);
+    t = tret;
+    StateWithSens out;
+    out.x = unpack(t, y.get(), yp.get(), n, m);
+    if (!out.x.q.allFinite()) check(IDA_CONV_FAIL, "IDASolve (non-finite state)", pb, t);
+    if (Ns > 0) {
+      check(IDAGetSens(ida, &tret, yS.data()), "IDAGetSens", pb, t);
+      check(IDAGetSensDky(ida, tret, 1, ypS.data()), "IDAGetSensDky", pb, t);
+      for (int k = 0; k < Ns; ++k) out.dp.push_back(unpack(t, yS[k], ypS[k], n, m));
+    }
+    if (m) st.maxConstraintViolation =
+        std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
+    obs.progress(t);
+    obs.frame(out);
+  }
+  long v = 0;
+  IDAGetNumSteps(ida, &v); st.steps = v;
+  IDAGetNumNonlinSolvIters(ida, &v); st.newtonIterations = v;
+  IDAGetNumLinSolvSetups(ida, &v); st.factorizations = v;
+  IDAGetNumResEvals(ida, &v); st.residualEvaluations = v;
+  IDAGetNumJacEvals(ida, &v); st.jacobianEvaluations = v;
+  IDAGetNumErrTestFails(ida, &v); st.errorTestFailures = v;
+  IDAGetNumNonlinSolvConvFails(ida, &v); st.convergenceFailures = v;
+  return st;
+}
+
+}  // namespace flexsens

@@ -1,0 +1,20 @@
+// Integrator settings as read from the scene (and overridden on the command line).
+#pragma once
+
+#include <string>
+
+namespace flexsens {
+
+struct IntegratorSettings {
+  std::string type = "idas";   ///< idas | trapezoidal | bdf1
+  double tEnd = 1.0;           ///< [s]
+  double dt = 1e-3;            ///< fixed step [s]; for IDAS the largest step allowed (0 = free)
+  double rtol = 1e-8;          ///< IDAS relative tolerance
+  double atol = 1e-10;         ///< IDAS absolute tolerance
+  double newtonTol = 1e-10;    ///< fixed-step Newton: tolerance on the scaled update
+  int maxNewtonIterations = 25;
+  double frameInterval = 0.01; ///< time between output frames [s]
+  bool sensitivityErrorControl = true;  ///< IDAS: sensitivities in the error test
+};
+
+}  // namespace flexsens

@@ -1,0 +1,187 @@
+#include "output/ResultWriter.hpp"
+
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace flexsens {
+
+namespace {
+double wallSeconds() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+/// Index (0..2) of planar axis c in 3D, given the scene's plane ("xz" -> x=0, z=2).
+int axis3(const Model& m, int c) {
+  const char a = m.axisName(c);
+  return a == 'x' ? 0 : (a == 'y' ? 1 : 2);
+}
+}  // namespace
+
+std::string jsonString(const std::string& s) {
+  std::string r = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') r += '\\', r += ch;
+    else if (ch == '\n') r += "\\n";
+    else if (static_cast<unsigned char>(ch) < 0x20) r += ' ';
+    else r += ch;
+  }
+  return r + "\"";
+}
+
+std::string jsonNumber(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream os;
+  os << std::setprecision(12) << v;
+  return os.str();
+}
+
+ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem)
+    : scene_(scene), dir_(std::move(dir)), stem_(std::move(stem)),
+      tEnd_(scene.integrator.tEnd), startWall_(wallSeconds()) {
+  const std::string csvPath = dir_ + "/" + stem_ + "series.csv";
+  csv_.open(csvPath);
+  if (!csv_) throw std::runtime_error("cannot write " + csvPath);
+  files_.push_back(csvPath);
+  columns_.push_back("t");
+  for (const auto& o : scene_.outputs) columns_.push_back(o.name);
+  for (const auto& o : scene_.outputs)
+    for (const auto& p : scene_.model->parameters) columns_.push_back("d" + o.name + "/d" + p.name);
+  for (size_t i = 0; i < columns_.size(); ++i) csv_ << (i ? "," : "") << columns_[i];
+  csv_ << "\n";
+  csv_ << std::setprecision(15);
+}
+
+void ResultWriter::frame(const StateWithSens& s) {
+  const Model& m = *scene_.model;
+  for (const auto* v : {&s.x.q, &s.x.v})
+    if (!v->allFinite())
+      throw NumericalError("non-finite state at t = " + std::to_string(s.x.t) + " s; nothing written for it");
+  auto value = [&](const VecX& q, const OutputSpec& o) {
+    const int d = m.dof(o.node, o.component);
+    return d < 0 ? (&q == &s.x.q ? m.nodes[o.node].position[o.component] : 0.0) : q[d];
+  };
+  lastRow_.assign(1, s.x.t);
+  for (const auto& o : scene_.outputs) lastRow_.push_back(value(s.x.q, o));
+  for (const auto& o : scene_.outputs)
+    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(value(s.dp[k].q, o));
+  for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
+  csv_ << "\n";
+  times_.push_back(s.x.t);
+  if (scene_.output.vtk) {
+    std::ostringstream name;
+    name << stem_ << "frame_" << std::setw(5) << std::setfill('0') << times_.size() - 1 << ".vtu";
+    writeVtu(s, dir_ + "/" + name.str());
+    vtuFiles_.push_back(name.str());
+  }
+}
+
+void ResultWriter::writeVtu(const StateWithSens& s, const std::string& path) const {
+  const Model& m = *scene_.model;
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  auto vectorArray = [&](const std::string& name) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(m.nodes.size());
+    return a;
+  };
+  auto pos = vectorArray("position"), disp = vectorArray("displacement"), vel = vectorArray("velocity");
+  std::vector<vtkSmartPointer<vtkDoubleArray>> dq, dv;
+  for (size_t k = 0; k < s.dp.size(); ++k) {
+    dq.push_back(vectorArray("dq/d" + m.parameters[k].name));
+    dv.push_back(vectorArray("dv/d" + m.parameters[k].name));
+  }
+  for (size_t i = 0; i < m.nodes.size(); ++i) {
+    double x[3] = {0, 0, 0}, x0[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    std::vector<std::array<double, 3>> sq(s.dp.size(), {0, 0, 0}), sv(s.dp.size(), {0, 0, 0});
+    for (int c = 0; c < m.dim; ++c) {
+      const int a = m.dim == 3 ? c : axis3(m, c);
+      const int d = m.dof(static_cast<int>(i), c);
+      x0[a] = m.nodes[i].position[c];
+      x[a] = d < 0 ? x0[a] : s.x.q[d];
+      v[a] = d < 0 ? 0.0 : s.x.v[d];
+      for (size_t k = 0; k < s.dp.size(); ++k) {
+        sq[k][a] = d < 0 ? 0.0 : s.dp[k].q[d];
+        sv[k][a] = d < 0 ? 0.0 : s.dp[k].v[d];
+      }
+    }
+    pts->InsertNextPoint(x);
+    pos->SetTuple(i, x);
+    const double u[3] = {x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]};
+    disp->SetTuple(i, u);
+    vel->SetTuple(i, v);
+    for (size_t k = 0; k < s.dp.size(); ++k) {
+      dq[k]->SetTuple(i, sq[k].data());
+      dv[k]->SetTuple(i, sv[k].data());
+    }
+  }
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(pts);
+  vtkNew<vtkIntArray> kind, id;
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment
+  id->SetName("element_id");
+  for (size_t e = 0; e < m.elements.size(); ++e) {
+    const auto& el = *m.elements[e];
+    if (el.nodes().size() != 2) continue;  // beam hinges share the segments' lines
+    vtkIdType ids[2] = {el.nodes()[0], el.nodes()[1]};
+    grid->InsertNextCell(VTK_LINE, 2, ids);
+    const std::string k = el.kind();
+    kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3 : 0);
+    id->InsertNextValue(static_cast<int>(e));
+  }
+  grid->GetCellData()->AddArray(kind);
+  grid->GetCellData()->AddArray(id);
+  grid->GetPointData()->AddArray(pos);
+  grid->GetPointData()->AddArray(disp);
+  grid->GetPointData()->AddArray(vel);
+  for (size_t k = 0; k < dq.size(); ++k) {
+    grid->GetPointData()->AddArray(dq[k]);
+    grid->GetPointData()->AddArray(dv[k]);
+  }
+  vtkNew<vtkXMLUnstructuredGridWriter> w;
+  w->SetFileName(path.c_str());
+  w->SetInputData(grid);
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();
+  if (w->Write() != 1) throw std::runtime_error("VTK could not write " + path);
+}
+
+void ResultWriter::progress(double t) {
+  const double now = wallSeconds() - startWall_;
+  if (now < 1.0 || now - lastPrint_ < 0.5) return;
+  lastPrint_ = now;
+  printed_ = true;
+  std::fprintf(stderr, "\r  t = %.4f / %.4f s  (%3.0f%%)  %.1f s elapsed", t, tEnd_,
+               100.0 * t / tEnd_, now);
+  std::fflush(stderr);
+}
+
+void ResultWriter::close() {
+  if (printed_) std::fprintf(stderr, "\n");
+  csv_.close();
+  if (!scene_.output.vtk) return;
+  const std::string path = dir_ + "/" + stem_ + "frames.pvd";
+  std::ofstream pvd(path);
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
+  pvd << std::setprecision(12);
+  for (size_t i = 0; i < vtuFiles_.size(); ++i)
+    pvd << "    <DataSet timestep=\"" << times_[i] << "\" part=\"0\" file=\"" << vtuFiles_[i] << "\"/>\n";
+  pvd << "  </Collection>\n</VTKFile>\n";
+  files_.push_back(path);
+}
+
+}  // namespace flexsens

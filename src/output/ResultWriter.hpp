@@ -1,0 +1,48 @@
+// Writes a run's results: series.csv (t, named outputs and their parameter derivatives),
+// one VTK .vtu per frame plus frames.pvd for ParaView, and summary.json at the end.
+// VTK objects are created only when VTK output is enabled.
+#pragma once
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "integrators/State.hpp"
+#include "scene/Scene.hpp"
+
+namespace flexsens {
+
+class ResultWriter : public Observer {
+ public:
+  /// dir must exist. stem prefixes the file names (e.g. "" or "R1_").
+  ResultWriter(const Scene& scene, std::string dir, std::string stem);
+  void frame(const StateWithSens& s) override;
+  void progress(double t) override;
+  /// Writes the .pvd index; call when the run ended (complete or not).
+  void close();
+  const std::vector<std::string>& files() const { return files_; }
+  /// Values of the named outputs (and derivatives) at the last frame, for reports.
+  const std::vector<double>& lastRow() const { return lastRow_; }
+  const std::vector<std::string>& columns() const { return columns_; }
+  long frames() const { return static_cast<long>(times_.size()); }
+
+ private:
+  void writeVtu(const StateWithSens& s, const std::string& path) const;
+  const Scene& scene_;
+  std::string dir_, stem_;
+  std::ofstream csv_;
+  std::vector<std::string> columns_;
+  std::vector<double> lastRow_;
+  std::vector<double> times_;
+  std::vector<std::string> vtuFiles_, files_;
+  double tEnd_;
+  double startWall_;
+  double lastPrint_ = 0.0;
+  bool printed_ = false;
+};
+
+/// Minimal JSON text building for summary.json (values are numbers, strings, lists).
+std::string jsonString(const std::string& s);
+std::string jsonNumber(double v);  ///< non-finite numbers become null
+
+}  // namespace flexsens

@@ -1,0 +1,39 @@
+// A scene: the model built from a YAML file plus what to run and what to write.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+#include "integrators/Settings.hpp"
+
+namespace flexsens {
+
+/// A named scalar output: one coordinate component of one node.
+struct OutputSpec {
+  std::string name;
+  int node = -1;
+  int component = 0;
+};
+
+struct OutputSettings {
+  std::string directory;  ///< default: results/<scene file stem>
+  bool vtk = true;
+  bool plots = true;
+};
+
+struct Scene {
+  std::string file;  ///< path as given
+  std::unique_ptr<Model> model;
+  IntegratorSettings integrator;
+  std::vector<OutputSpec> outputs;
+  OutputSettings output;
+};
+
+/// Reads and validates a scene file; throws InputError naming file:line, key and expectation.
+Scene readScene(const std::string& path);
+/// Same, from text (tests); `name` is used in messages as the file name.
+Scene readSceneText(const std::string& text, const std::string& name);
+
+}  // namespace flexsens

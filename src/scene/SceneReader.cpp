@@ -1,0 +1,346 @@
+// Reads a scene file, validates every key against what it may hold and builds the Model.
+// Validation and building happen in one pass so that every error still has its YAML mark.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "constraints/Distance.hpp"
+#include "elements/Beam.hpp"
+#include "elements/RigidBar.hpp"
+#include "scene/Scene.hpp"
+#include "scene/YamlReader.hpp"
+
+namespace flexsens {
+
+namespace {
+
+std::string at(const std::string& list, size_t i) { return list + "[" + std::to_string(i) + "]"; }
+
+class Builder {
+ public:
+  explicit Builder(const std::string& file) : r_(file) {}
+
+  Scene build(const YAML::Node& root) {
+    Scene sc;
+    sc.file = r_.file();
+    if (!root || root.IsNull()) {
+      YAML::Node empty;
+      r_.fail(empty, "dimension", "the scene is empty; expected a mapping with at least the keys "
+                                  "dimension, nodes and integrator");
+    }
+    r_.allowKeys(root, "", {"dimension", "plane", "gravity", "nodes", "elements", "constraints",
+                            "parameters", "integrator", "outputs", "output", "description"});
+    sc.model = std::make_unique<Model>();
+    Model& m = *sc.model;
+    const YAML::Node dimNode = r_.require(root, "dimension", "");
+    m.dim = r_.integer(dimNode, "dimension");
+    if (m.dim != 2 && m.dim != 3) r_.fail(dimNode, "dimension", "expected 2 or 3");
+    if (root["plane"]) {
+      if (m.dim != 2) r_.fail(root["plane"], "plane", "only planar (dimension 2) scenes name a plane");
+      m.plane = r_.text(root["plane"], "plane");
+      if (m.plane != "xy" && m.plane != "xz" && m.plane != "yz")
+        r_.fail(root["plane"], "plane", "expected xy, xz or yz");
+    }
+    m.gravity = root["gravity"] ? r_.vector(root["gravity"], "gravity", m.dim) : VecX::Zero(m.dim);
+    readNodes(r_.require(root, "nodes", ""), m);
+    if (root["elements"]) readElements(root["elements"], m);
+    if (root["constraints"]) readConstraints(root["constraints"], m);
+    m.finalize();
+    if (root["parameters"]) readParameters(root["parameters"], m);
+    readIntegrator(r_.require(root, "integrator", ""), sc.integrator);
+    if (root["outputs"]) readOutputs(root["outputs"], sc);
+    readOutputSettings(root["output"], sc);
+    if (m.n == 0) r_.fail(root["nodes"], "nodes", "the scene has no free node: nothing can move");
+    return sc;
+  }
+
+ private:
+  // -------------------------------------------------------------------------- nodes
+  void readNodes(const YAML::Node& list, Model& m) {
+    r_.requireList(list, "nodes");
+    if (list.size() == 0) r_.fail(list, "nodes", "expected at least one node");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node nd = list[i];
+      const std::string path = at("nodes", i);
+      r_.allowKeys(nd, path, {"name", "position", "velocity", "ground"});
+      Node node;
+      node.name = r_.text(r_.require(nd, "name", path), path + ".name");
+      if (nodeIndex_.count(node.name)) r_.fail(nd["name"], path + ".name", "duplicate node name '" + node.name + "'");
+      node.position = r_.vector(r_.require(nd, "position", path), path + ".position", m.dim);
+      node.velocity = nd["velocity"] ? r_.vector(nd["velocity"], path + ".velocity", m.dim)
+                                     : VecX::Zero(m.dim);
+      node.ground = nd["ground"] ? r_.boolean(nd["ground"], path + ".ground") : false;
+      if (node.ground && node.velocity.norm() > 0)
+        r_.fail(nd["velocity"], path + ".velocity", "a ground node cannot have a velocity");
+      nodeIndex_[node.name] = static_cast<int>(m.nodes.size());
+      m.nodes.push_back(node);
+    }
+  }
+
+  int node(const YAML::Node& n, const std::string& path) const {
+    const std::string name = r_.text(n, path);
+    auto it = nodeIndex_.find(name);
+    if (it == nodeIndex_.end()) r_.fail(n, path, "no node named '" + name + "' is defined under nodes");
+    return it->second;
+  }
+
+  std::vector<int> nodeList(const YAML::Node& item, const std::string& path, size_t minCount,
+                            size_t maxCount) const {
+    const YAML::Node list = r_.require(item, "nodes", path);
+    const std::string p = path + ".nodes";
+    if (!list.IsSequence() || list.size() < minCount || list.size() > maxCount)
+      r_.fail(list, p, minCount == maxCount ? "expected a list of " + std::to_string(minCount) + " node names"
+                                            : "expected a list of at least " + std::to_string(minCount) + " node names");
+    std::vector<int> ids;
+    std::set<int> seen;
+    for (size_t i = 0; i < list.size(); ++i) {
+      ids.push_back(node(list[i], at(p, i)));
+      if (!seen.insert(ids.back()).second) r_.fail(list[i], at(p, i), "the same node appears twice");
+    }
+    return ids;
+  }
+
+  std::string itemName(const YAML::Node& item, const std::string& path, const std::string& fallback) {
+    std::string name = item["name"] ? r_.text(item["name"], path + ".name") : fallback;
+    if (!names_.insert(name).second) r_.fail(item["name"] ? item["name"] : item, path + ".name", "duplicate name '" + name + "'");
+    return name;
+  }
+
+  double distance(const Model& m, int a, int b) const {
+    return (m.nodes[a].position - m.nodes[b].position).norm();
+  }
+
+  /// A length given as a positive number or "auto" (the initial distance of the nodes).
+  Quantity length(const YAML::Node& n, const std::string& path, const Model& m, int a, int b) const {
+    if (!n || r_.isAuto(n)) {
+      const double d = distance(m, a, b);
+      if (!(d > 0)) r_.fail(n ? n : YAML::Node(), path, "the two nodes coincide, so 'auto' gives a zero length");
+      return {d, -1};
+    }
+    return {r_.positive(n, path), -1};
+  }
+
+  void bind(const std::string& key, Quantity* q) { bindings_[key].push_back(q); }
+
+  // ----------------------------------------------------------------------- elements
+  void readElements(const YAML::Node& list, Model& m) {
+    r_.requireList(list, "elements");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node el = list[i];
+      const std::string path = at("elements", i);
+      r_.requireMap(el, path);
+      const std::string type = r_.text(r_.require(el, "type", path), path + ".type");
+      const std::string name = itemName(el, path, type + std::to_string(i));
+      if (type == "rigid_bar") {
+        r_.allowKeys(el, path, {"name", "type", "nodes", "mass", "length"});
+        const auto ids = nodeList(el, path, 2, 2);
+        const Quantity mass{r_.positive(r_.require(el, "mass", path), path + ".mass"), -1};
+        auto bar = std::make_unique<RigidBar>(name, ids[0], ids[1], mass);
+        auto con = std::make_unique<DistanceConstraint>(name + ".length", ids[0], ids[1],
+                                                        length(el["length"], path + ".length", m, ids[0], ids[1]));
+        for (auto& [k, q] : bar->properties()) bind(name + "." + k, q);
+        for (auto& [k, q] : con->properties()) bind(name + "." + k, q);
+        m.elements.push_back(std::move(bar));
+        m.constraints.push_back(std::move(con));
+      } else if (type == "spring_damper") {
+        r_.allowKeys(el, path, {"name", "type", "nodes", "stiffness", "damping", "natural_length"});
+        const auto ids = nodeList(el, path, 2, 2);
+        const Quantity k{r_.nonNegative(r_.require(el, "stiffness", path), path + ".stiffness"), -1};
+        const Quantity c{el["damping"] ? r_.nonNegative(el["damping"], path + ".damping") : 0.0, -1};
+        auto sp = std::make_unique<SpringDamper>(name, ids[0], ids[1], k, c,
+                                                 length(el["natural_length"], path + ".natural_length", m, ids[0], ids[1]));
+        for (auto& [key, q] : sp->properties()) bind(name + "." + key, q);
+        m.elements.push_back(std::move(sp));
+      } else if (type == "beam") {
+        readBeam(el, path, name, m);
+      } else {
+        r_.fail(el["type"], path + ".type", "unknown element type '" + type +
+                                               "'; expected rigid_bar, spring_damper or beam");
+      }
+    }
+  }
+
+  void readBeam(const YAML::Node& el, const std::string& path, const std::string& name, Model& m) {
+    r_.allowKeys(el, path, {"name", "type", "nodes", "E", "density", "section"});
+    if (m.dim != 2) r_.fail(el["type"], path + ".type", "the beam element is planar for now (dimension 2)");
+    const auto ids = nodeList(el, path, 2, 100000);
+    auto sec = std::make_shared<BeamSection>();
+    sec->E = {r_.positive(r_.require(el, "E", path), path + ".E"), -1};
+    sec->density = {r_.positive(r_.require(el, "density", path), path + ".density"), -1};
+    const YAML::Node s = r_.require(el, "section", path);
+    const std::string sp = path + ".section";
+    r_.allowKeys(s, sp, {"side", "area", "inertia"});
+    if (s["side"]) {
+      if (s["area"] || s["inertia"]) r_.fail(s, sp, "give either side (square section) or area and inertia, not both");
+      sec->square = true;
+      sec->side = {r_.positive(s["side"], sp + ".side"), -1};
+    } else {
+      sec->area = {r_.positive(r_.require(s, "area", sp), sp + ".area"), -1};
+      sec->inertia = {r_.positive(r_.require(s, "inertia", sp), sp + ".inertia"), -1};
+    }
+    for (auto& [k, q] : sec->properties()) bind(name + "." + k, q);
+    for (size_t j = 0; j + 1 < ids.size(); ++j) {
+      const double L = distance(m, ids[j], ids[j + 1]);
+      if (!(L > 0)) r_.fail(el["nodes"][j + 1], at(path + ".nodes", j + 1), "coincides with the previous node: zero segment length");
+      m.elements.push_back(std::make_unique<BeamSegment>(name + ".segment" + std::to_string(j),
+                                                         std::vector<int>{ids[j], ids[j + 1]}, sec, L));
+    }
+    for (size_t j = 1; j + 1 < ids.size(); ++j) {
+      VecX rest(6);
+      rest << m.nodes[ids[j - 1]].position, m.nodes[ids[j]].position, m.nodes[ids[j + 1]].position;
+      m.elements.push_back(std::make_unique<BeamHinge>(name + ".hinge" + std::to_string(j),
+                                                       std::vector<int>{ids[j - 1], ids[j], ids[j + 1]}, sec, rest));
+    }
+  }
+
+  // -------------------------------------------------------------------- constraints
+  void readConstraints(const YAML::Node& list, Model& m) {
+    r_.requireList(list, "constraints");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node c = list[i];
+      const std::string path = at("constraints", i);
+      r_.requireMap(c, path);
+      const std::string type = r_.text(r_.require(c, "type", path), path + ".type");
+      const std::string name = itemName(c, path, type + std::to_string(i));
+      if (type == "distance") {
+        r_.allowKeys(c, path, {"name", "type", "nodes", "length"});
+        const auto ids = nodeList(c, path, 2, 2);
+        auto con = std::make_unique<DistanceConstraint>(name, ids[0], ids[1],
+                                                        length(c["length"], path + ".length", m, ids[0], ids[1]));
+        for (auto& [k, q] : con->properties()) bind(name + "." + k, q);
+        m.constraints.push_back(std::move(con));
+      } else if (type == "fixed") {
+        r_.allowKeys(c, path, {"name", "type", "node", "position"});
+        const int id = node(r_.require(c, "node", path), path + ".node");
+        if (m.nodes[id].ground) r_.fail(c["node"], path + ".node", "node '" + m.nodes[id].name + "' is a ground node already");
+        const VecX pos = c["position"] ? r_.vector(c["position"], path + ".position", m.dim) : m.nodes[id].position;
+        m.constraints.push_back(std::make_unique<FixedNodeConstraint>(name, id, pos));
+      } else {
+        r_.fail(c["type"], path + ".type", "unknown constraint type '" + type + "'; expected distance or fixed");
+      }
+    }
+  }
+
+  // --------------------------------------------------------------------- parameters
+  void readParameters(const YAML::Node& list, Model& m) {
+    r_.requireList(list, "parameters");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node pn = list[i];
+      const std::string path = at("parameters", i);
+      r_.allowKeys(pn, path, {"name", "of", "property"});
+      Parameter par;
+      par.name = r_.text(r_.require(pn, "name", path), path + ".name");
+      for (const auto& other : m.parameters)
+        if (other.name == par.name) r_.fail(pn["name"], path + ".name", "duplicate parameter name '" + par.name + "'");
+      const std::string of = r_.text(r_.require(pn, "of", path), path + ".of");
+      const std::string prop = r_.text(r_.require(pn, "property", path), path + ".property");
+      par.boundTo = of + "." + prop;
+      auto it = bindings_.find(par.boundTo);
+      if (it == bindings_.end()) {
+        std::string avail;
+        for (const auto& [k, v] : bindings_)
+          if (k.rfind(of + ".", 0) == 0) avail += (avail.empty() ? "" : ", ") + k.substr(of.size() + 1);
+        r_.fail(pn["property"], path + ".property",
+                avail.empty() ? "no element or constraint named '" + of + "' has parameters"
+                              : "'" + of + "' has no property '" + prop + "'; expected one of: " + avail);
+      }
+      const int k = static_cast<int>(m.parameters.size());
+      par.nominal = it->second.front()->constant;
+      for (Quantity* q : it->second) {
+        if (q->param >= 0) r_.fail(pn, path, "'" + par.boundTo + "' is bound to another parameter already");
+        q->param = k;
+      }
+      m.parameters.push_back(par);
+    }
+  }
+
+  // --------------------------------------------------------------------- integrator
+  void readIntegrator(const YAML::Node& in, IntegratorSettings& s) {
+    r_.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
+                                    "max_newton_iterations", "frame_interval", "sensitivity_error_control"});
+    s.type = r_.text(r_.require(in, "type", "integrator"), "integrator.type");
+    if (s.type != "idas" && s.type != "trapezoidal" && s.type != "bdf1")
+      r_.fail(in["type"], "integrator.type", "expected idas, trapezoidal or bdf1, got '" + s.type + "'");
+    s.tEnd = r_.positive(r_.require(in, "t_end", "integrator"), "integrator.t_end");
+    if (in["dt"]) s.dt = r_.positive(in["dt"], "integrator.dt");
+    else if (s.type != "idas") r_.require(in, "dt", "integrator");
+    else s.dt = 0.0;
+    if (in["rtol"]) s.rtol = r_.positive(in["rtol"], "integrator.rtol");
+    if (in["atol"]) s.atol = r_.positive(in["atol"], "integrator.atol");
+    if (in["newton_tol"]) s.newtonTol = r_.positive(in["newton_tol"], "integrator.newton_tol");
+    if (in["max_newton_iterations"]) {
+      s.maxNewtonIterations = r_.integer(in["max_newton_iterations"], "integrator.max_newton_iterations");
+      if (s.maxNewtonIterations < 1) r_.fail(in["max_newton_iterations"], "integrator.max_newton_iterations", "expected at least 1");
+    }
+    s.frameInterval = in["frame_interval"] ? r_.positive(in["frame_interval"], "integrator.frame_interval")
+                                           : std::max(s.dt, s.tEnd / 200.0);
+    if (in["sensitivity_error_control"])
+      s.sensitivityErrorControl = r_.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
+  }
+
+  void readOutputs(const YAML::Node& list, Scene& sc) {
+    r_.requireList(list, "outputs");
+    const Model& m = *sc.model;
+    for (size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node o = list[i];
+      const std::string path = at("outputs", i);
+      r_.allowKeys(o, path, {"name", "node", "component"});
+      OutputSpec spec;
+      spec.name = r_.text(r_.require(o, "name", path), path + ".name");
+      for (const auto& other : sc.outputs)
+        if (other.name == spec.name) r_.fail(o["name"], path + ".name", "duplicate output name '" + spec.name + "'");
+      spec.node = node(r_.require(o, "node", path), path + ".node");
+      const std::string comp = r_.text(r_.require(o, "component", path), path + ".component");
+      spec.component = -1;
+      for (int c = 0; c < m.dim; ++c)
+        if (comp.size() == 1 && comp[0] == m.axisName(c)) spec.component = c;
+      if (spec.component < 0) {
+        std::string axes;
+        for (int c = 0; c < m.dim; ++c) axes += std::string(axes.empty() ? "" : ", ") + m.axisName(c);
+        r_.fail(o["component"], path + ".component", "expected one of " + axes + " (the scene's axes)");
+      }
+      sc.outputs.push_back(spec);
+    }
+  }
+
+  void readOutputSettings(const YAML::Node& o, Scene& sc) {
+    sc.output.directory = "results/" + std::filesystem::path(sc.file).stem().string();
+    if (!o) return;
+    r_.allowKeys(o, "output", {"directory", "vtk", "plots"});
+    if (o["directory"]) sc.output.directory = r_.text(o["directory"], "output.directory");
+    if (o["vtk"]) sc.output.vtk = r_.boolean(o["vtk"], "output.vtk");
+    if (o["plots"]) sc.output.plots = r_.boolean(o["plots"], "output.plots");
+  }
+
+  YamlReader r_;
+  std::map<std::string, int> nodeIndex_;
+  std::set<std::string> names_;
+  std::map<std::string, std::vector<Quantity*>> bindings_;
+};
+
+}  // namespace
+
+Scene readSceneText(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    std::ostringstream os;
+    os << name << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": key '(syntax)': "
+       << "YAML syntax error: " << e.msg;
+    throw InputError(os.str());
+  }
+  return Builder(name).build(root);
+}
+
+Scene readScene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the scene file (does it exist and is it readable?)");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return readSceneText(ss.str(), path);
+}
+
+}  // namespace flexsens

@@ -1,0 +1,42 @@
+// Small helpers that read typed values out of yaml-cpp nodes and turn every problem into an
+// InputError of the form  "<file>:<line>:<column>: key '<path>': <what was expected>".
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <initializer_list>
+#include <optional>
+#include <string>
+
+#include "core/Types.hpp"
+
+namespace flexsens {
+
+class YamlReader {
+ public:
+  explicit YamlReader(std::string file) : file_(std::move(file)) {}
+  const std::string& file() const { return file_; }
+
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& msg) const;
+  /// Unknown keys are errors; the message lists the keys allowed here.
+  void allowKeys(const YAML::Node& map, const std::string& path,
+                 std::initializer_list<const char*> keys) const;
+  void requireMap(const YAML::Node& node, const std::string& path) const;
+  void requireList(const YAML::Node& node, const std::string& path) const;
+  /// The child `key` of `map`, failing (at the map) if it is missing.
+  YAML::Node require(const YAML::Node& map, const std::string& key, const std::string& path) const;
+
+  double number(const YAML::Node& node, const std::string& path) const;  ///< finite number
+  double positive(const YAML::Node& node, const std::string& path) const;  ///< > 0
+  double nonNegative(const YAML::Node& node, const std::string& path) const;  ///< >= 0
+  std::string text(const YAML::Node& node, const std::string& path) const;
+  bool boolean(const YAML::Node& node, const std::string& path) const;
+  int integer(const YAML::Node& node, const std::string& path) const;
+  VecX vector(const YAML::Node& node, const std::string& path, int size) const;
+  bool isAuto(const YAML::Node& node) const;
+
+ private:
+  std::string file_;
+};
+
+}  // namespace flexsens

@@ -1,0 +1,195 @@
+// Finite-difference checks of every derivative the assembly path provides: element forces,
+// constraint Jacobians and Hessians, parameter derivatives, and the integrators' systems.
+#include <gtest/gtest.h>
+
+#include "TestModels.hpp"
+#include "constraints/Distance.hpp"
+#include "core/Assembler.hpp"
+#include "elements/RigidBar.hpp"
+#include "integrators/Idas.hpp"
+
+using namespace flexsens;
+using namespace flexsens::test;
+
+namespace {
+
+/// A planar model with every element and constraint type of the foundation, all
+/// properties bound to parameters so that every parameter derivative is exercised.
+Scene mixedScene() {
+  return readSceneText(R"(
+dimension: 2
+plane: xz
+gravity: [0.3, -9.81]
+nodes:
+  - {name: A, position: [0, 0], ground: true}
+  - {name: n1, position: [-1, -1]}
+  - {name: n2, position: [0.5, -2]}
+  - {name: n3, position: [2, -1]}
+  - {name: n4, position: [2.5, 0.3]}
+elements:
+  - {name: bA1, type: rigid_bar, nodes: [A, n1], mass: 1.0}
+  - {name: b12, type: rigid_bar, nodes: [n1, n2], mass: 1.5}
+  - {name: s23, type: spring_damper, nodes: [n2, n3], stiffness: 50, damping: 3, natural_length: 1.3}
+  - {name: s3A, type: spring_damper, nodes: [n3, A], stiffness: 20, damping: 0.5}
+  - {name: b34, type: rigid_bar, nodes: [n3, n4], mass: 0.7}
+constraints:
+  - {name: d24, type: distance, nodes: [n2, n4], length: 2.9}
+  - {name: fx, type: fixed, node: n4, position: [2.5, 0.3]}
+parameters:
+  - {name: L, of: bA1, property: length}
+  - {name: mass, of: b12, property: mass}
+  - {name: k, of: s23, property: stiffness}
+  - {name: c, of: s23, property: damping}
+  - {name: L0, of: s23, property: natural_length}
+  - {name: Ld, of: d24, property: length}
+integrator: {type: idas, t_end: 1}
+)", "mixed.yaml");
+}
+
+VecX perturbed(const VecX& x, unsigned seed, double scale) {
+  std::srand(seed);
+  return x + scale * VecX::Random(x.size());
+}
+
+}  // namespace
+
+TEST(Assembly, ForceJacobiansMatchFiniteDifferences) {
+  Scene sc = mixedScene();
+  Assembler as(*sc.model);
+  const VecX p = sc.model->nominalParameters();
+  const VecX q = perturbed(sc.model->initialPositions(), 1, 0.1);
+  const VecX v = perturbed(VecX::Zero(as.n()), 2, 1.0);
+  SparseAccumulator kq, kv;
+  kq.begin(as.n(), as.n());
+  as.addForceJacobian(kq, q, v, p, -1.0, 0.0, 0, 0, 0);
+  kv.begin(as.n(), as.n());
+  as.addForceJacobian(kv, q, v, p, 0.0, -1.0, 0, 0, 0);
+  const MatX fdq = fdJacobian([&](const VecX& x) { return as.force(x, v, p); }, q);
+  const MatX fdv = fdJacobian([&](const VecX& x) { return as.force(q, x, p); }, v);
+  EXPECT_LT(relErr(MatX(kq.finish()), fdq), 1e-7);
+  EXPECT_LT(relErr(MatX(kv.finish()), fdv), 1e-7);
+  EXPECT_GT(fdq.norm(), 1.0);  // the check is not vacuous
+}
+
+TEST(Assembly, ConservativeForceIsMinusPotentialGradient) {
+  Scene sc = readSceneText(R"(
+dimension: 2
+gravity: [0, -9.81]
+nodes:
+  - {name: A, position: [0, 0], ground: true}
+  - {name: n1, position: [1, 0.2]}
+  - {name: n2, position: [1.5, -1]}
+elements:
+  - {type: rigid_bar, nodes: [A, n1], mass: 2}
+  - {type: spring_damper, nodes: [n1, n2], stiffness: 40, natural_length: 0.7}
+integrator: {type: idas, t_end: 1}
+)", "conservative.yaml");
+  Assembler as(*sc.model);
+  const VecX p = sc.model->nominalParameters();
+  const VecX q = sc.model->initialPositions();
+  const VecX zero = VecX::Zero(as.n());
+  const MatX grad = fdJacobian([&](const VecX& x) { return VecX::Constant(1, as.potentialEnergy(x, p)); }, q);
+  EXPECT_LT(relErr(as.force(q, zero, p), VecX(-grad.transpose())), 1e-8);
+}
+
+TEST(Assembly, ConstraintJacobianAndHessiansMatchFiniteDifferences) {
+  Scene sc = mixedScene();
+  Assembler as(*sc.model);
+  const VecX p = sc.model->nominalParameters();
+  const VecX q = perturbed(sc.model->initialPositions(), 3, 0.1);
+  const VecX w = perturbed(VecX::Zero(as.m()), 4, 1.0);
+  const VecX v = perturbed(VecX::Zero(as.n()), 5, 1.0);
+  SparseAccumulator J, H, R;
+  J.begin(as.m(), as.n());
+  as.addPhiQ(J, q, p, 1.0, 0, 0, false);
+  const MatX fdJ = fdJacobian([&](const VecX& x) { return as.phi(x, p); }, q);
+  EXPECT_LT(relErr(MatX(J.finish()), fdJ), 1e-8);
+  // Transposed block equals the transpose.
+  SparseAccumulator JT;
+  JT.begin(as.n(), as.m());
+  as.addPhiQ(JT, q, p, 1.0, 0, 0, true);
+  EXPECT_LT(relErr(MatX(JT.finish()), MatX(fdJ.transpose())), 1e-8);
+  // Hessian contraction: d(Phi_q^T w)/dq.
+  H.begin(as.n(), as.n());
+  as.addHessian(H, q, p, w, 1.0, 0, 0);
+  const MatX fdH = fdJacobian([&](const VecX& x) { return as.phiQTransposeTimes(x, p, w); }, q);
+  EXPECT_LT(relErr(MatX(H.finish()), fdH), 1e-7);
+  // Rows of d(Phi_q v)/dq.
+  R.begin(as.m(), as.n());
+  as.addHessianRows(R, q, p, v, 1.0, 0, 0);
+  const MatX fdR = fdJacobian([&](const VecX& x) { return as.phiQTimes(x, p, v); }, q);
+  EXPECT_LT(relErr(MatX(R.finish()), fdR), 1e-7);
+  // Vector forms agree with the blocks.
+  EXPECT_LT(relErr(as.hessianQuadratic(q, p, v), VecX(fdR * v)), 1e-7);
+  EXPECT_LT(relErr(as.hessianTimes(q, p, w, v), VecX(fdH * v)), 1e-7);
+}
+
+TEST(Assembly, ParameterDerivativesMatchFiniteDifferences) {
+  Scene sc = mixedScene();
+  Assembler as(*sc.model);
+  const VecX p = sc.model->nominalParameters();
+  ASSERT_EQ(p.size(), 6);
+  const VecX q = perturbed(sc.model->initialPositions(), 6, 0.1);
+  const VecX v = perturbed(VecX::Zero(as.n()), 7, 1.0);
+  const VecX a = perturbed(VecX::Zero(as.n()), 8, 1.0);
+  const VecX l = perturbed(VecX::Zero(as.m()), 9, 1.0);
+  for (int k = 0; k < p.size(); ++k) {
+    auto inP = [&](const std::function<VecX(const VecX&)>& f) -> VecX {
+      return fdJacobian([&](const VecX& x) { VecX pp = p; pp[k] = x[0]; return f(pp); },
+                        VecX::Constant(1, p[k])).col(0);
+    };
+    SCOPED_TRACE("parameter " + sc.model->parameters[k].name);
+    EXPECT_LT(relErr(as.forceParamDerivative(q, v, p, k), inP([&](const VecX& pp) { return as.force(q, v, pp); })), 1e-7);
+    EXPECT_LT(relErr(as.massParamDerivativeTimes(p, k, a), inP([&](const VecX& pp) { return VecX(as.mass(pp) * a); })), 1e-7);
+    EXPECT_LT(relErr(as.phiParamDerivative(q, p, k), inP([&](const VecX& pp) { return as.phi(q, pp); })), 1e-7);
+    EXPECT_LT(relErr(as.phiQParamDerivativeTimes(q, p, k, v), inP([&](const VecX& pp) { return as.phiQTimes(q, pp, v); })), 1e-7);
+    EXPECT_LT(relErr(as.phiQParamDerivativeTransposeTimes(q, p, k, l),
+                     inP([&](const VecX& pp) { return as.phiQTransposeTimes(q, pp, l); })), 1e-7);
+  }
+}
+
+TEST(Assembly, GglJacobianAndSensitivityResidualMatchFiniteDifferences) {
+  Scene sc = mixedScene();
+  Assembler as(*sc.model);
+  const int n = as.n(), m = as.m(), N = 2 * (n + m);
+  const VecX p = sc.model->nominalParameters();
+  const SpMat M = as.mass(p);
+  VecX y = perturbed(VecX::Zero(N), 10, 1.0);
+  y.head(n) = perturbed(sc.model->initialPositions(), 11, 0.1);
+  const VecX yp = perturbed(VecX::Zero(N), 12, 1.0);
+  const double cj = 37.0;
+  SparseAccumulator acc;
+  const MatX J = MatX(gglJacobian(as, p, y, cj, acc));
+  const MatX Fy = fdJacobian([&](const VecX& x) { return gglResidual(as, p, M, x, yp); }, y);
+  const MatX Fyp = fdJacobian([&](const VecX& x) { return gglResidual(as, p, M, y, x); }, yp);
+  EXPECT_LT(relErr(J, MatX(Fy + cj * Fyp)), 1e-7);
+  // The sensitivity residual is F_y s + F_y' s' + F_p.
+  const VecX s = perturbed(VecX::Zero(N), 13, 1.0), sd = perturbed(VecX::Zero(N), 14, 1.0);
+  for (int k = 0; k < p.size(); ++k) {
+    const VecX Fp = fdJacobian([&](const VecX& x) {
+      VecX pp = p; pp[k] = x[0];
+      return gglResidual(as, pp, as.mass(pp), y, yp); }, VecX::Constant(1, p[k]));
+    EXPECT_LT(relErr(gglSensitivityResidual(as, p, M, y, yp, k, s, sd), VecX(Fy * s + Fyp * sd + Fp)), 1e-7)
+        << "parameter " << k;
+  }
+}
+
+TEST(SparseAccumulator, ReusesPatternAndRebuildsWhenSequenceChanges) {
+  SparseAccumulator acc;
+  acc.begin(3, 3);
+  acc.add(0, 0, 1.0); acc.add(2, 1, 2.0); acc.add(0, 0, 3.0);
+  MatX A = MatX(acc.finish());
+  EXPECT_EQ(A(0, 0), 4.0);
+  EXPECT_EQ(A(2, 1), 2.0);
+  acc.begin(3, 3);
+  acc.add(0, 0, 5.0); acc.add(2, 1, 6.0); acc.add(0, 0, 7.0);
+  A = MatX(acc.finish());
+  EXPECT_EQ(A(0, 0), 12.0);
+  EXPECT_EQ(A(2, 1), 6.0);
+  acc.begin(3, 3);  // a different sequence
+  acc.add(0, 0, 1.0); acc.add(1, 2, 8.0);
+  A = MatX(acc.finish());
+  EXPECT_EQ(A(0, 0), 1.0);
+  EXPECT_EQ(A(1, 2), 8.0);
+  EXPECT_EQ(A(2, 1), 0.0);
+}
