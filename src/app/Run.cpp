@@ -34,13 +34,24 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
   if (opt.outDir) sc.output.directory = *opt.outDir;
 }
 
-StateWithSens initialState(const Assembler& as, const VecX& p) {
+State consistentState(const Assembler& as, const VecX& p) {
   const Model& m = as.model();
+  State s;
+  s.t = 0.0;
+  s.q = projectPositions(as, m.initialPositions(), p);
+  s.v = projectVelocities(as, s.q, m.initialVelocities(), p);
+  solveAccelerations(as, s, p);
+  return s;
+}
+
+StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pim, PimReport* rep) {
+  const Model& m = as.model();
+  if (pim) {
+    PimReport local;
+    return pimInitialState(as, *pim, consistentState(as, p), p, rep ? *rep : local);
+  }
   StateWithSens s;
-  s.x.t = 0.0;
-  s.x.q = projectPositions(as, m.initialPositions(), p);
-  s.x.v = projectVelocities(as, s.x.q, m.initialVelocities(), p);
-  solveAccelerations(as, s.x, p);
+  s.x = consistentState(as, p);
   SparseAccumulator acc;
   acc.begin(as.m(), as.n());
   as.addPhiQ(acc, s.x.q, p, 1.0, 0, 0, false);
@@ -73,13 +84,40 @@ namespace {
 
 void writeSummary(const std::string& path, const Scene& sc, const IntegratorStats& st, double wall,
                   const std::string& status, const std::string& error,
-                  const std::vector<std::string>& files) {
+                  const std::vector<std::string>& files, const PimReport* pim) {
   const Model& m = *sc.model;
   std::ofstream js(path);
   js << "{\n";
   js << "  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
   js << "  \"scene\": " << jsonString(sc.file) << ",\n";
+  if (pim && sc.pimCase) {
+    const PimCase& c = *sc.pimCase;
+    auto list = [](const std::vector<std::string>& v) {
+      std::string r = "[";
+      for (size_t i = 0; i < v.size(); ++i) r += (i ? ", " : "") + jsonString(v[i]);
+      return r + "]";
+    };
+    std::vector<std::string> sdofs;
+    for (const auto& z : c.sdofs) sdofs.push_back(z->name);
+    js << "  \"case\": {\"name\": " << jsonString(c.name) << ", \"n\": " << pim->n << ", \"m\": " << pim->m
+       << ", \"d\": " << pim->d << ", \"m_r\": " << pim->mr << ", \"d_s\": " << pim->ds
+       << ", \"rigidized\": " << list(c.rigidized) << ", \"rigid_model\": " << list(c.rigidModel)
+       << ", \"sdofs\": " << list(sdofs) << ", \"condition_A\": " << jsonNumber(pim->condition) << ",\n"
+       << "           \"q_p0\": {";
+    for (int k = 0; k < pim->qp.cols(); ++k) {
+      js << (k ? ", " : "") << jsonString(m.parameters[k].name) << ": [";
+      for (int i = 0; i < pim->qp.rows(); ++i) js << (i ? ", " : "") << jsonNumber(pim->qp(i, k));
+      js << "]";
+    }
+    js << "}, \"v_p0\": {";
+    for (int k = 0; k < pim->vp.cols(); ++k) {
+      js << (k ? ", " : "") << jsonString(m.parameters[k].name) << ": [";
+      for (int i = 0; i < pim->vp.rows(); ++i) js << (i ? ", " : "") << jsonNumber(pim->vp(i, k));
+      js << "]";
+    }
+    js << "}},\n";
+  }
   js << "  \"integrator\": {\"type\": " << jsonString(sc.integrator.type)
      << ", \"t_end\": " << jsonNumber(sc.integrator.tEnd) << ", \"dt\": " << jsonNumber(sc.integrator.dt)
      << ", \"rtol\": " << jsonNumber(sc.integrator.rtol) << ", \"atol\": " << jsonNumber(sc.integrator.atol) << "},\n";
@@ -110,7 +148,8 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   const Model& m = *sc.model;
   Assembler as(m);
   const VecX p = m.nominalParameters();
-  const StateWithSens start = initialState(as, p);  // before any file is written
+  PimReport pim;
+  const StateWithSens start = initialState(as, p, sc.pimCase.get(), &pim);  // before any file is written
 
   std::filesystem::create_directories(outDir);
   const std::string summary = outDir + "/summary.json";
@@ -125,12 +164,12 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
     res.stats = integrate(as, p, start, sc.integrator, writer);
   } catch (const std::exception& e) {
     writer.close();
-    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files());
+    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files(), &pim);
     throw;
   }
   writer.close();
   res.wallSeconds = elapsed();
-  writeSummary(summary, sc, res.stats, res.wallSeconds, "complete", "", writer.files());
+  writeSummary(summary, sc, res.stats, res.wallSeconds, "complete", "", writer.files(), &pim);
   return res;
 }
 

@@ -25,9 +25,12 @@ struct RunResult {
 
 /// Applies the overrides to the scene settings; throws InputError naming the option.
 void applyOptions(Scene& scene, const RunOptions& opt);
-/// Consistent initial state at t = 0 for parameters p; sensitivities by the least-norm
-/// rule (Phi_q q_p = -Phi_p with smallest |q_p|) until a PIM case says otherwise.
-StateWithSens initialState(const Assembler& as, const VecX& p);
+/// Consistent initial state at t = 0 for parameters p (no sensitivities).
+State consistentState(const Assembler& as, const VecX& p);
+/// With its sensitivities: from the scene's PIM case when there is one (report filled),
+/// otherwise by the least-norm rule (Phi_q q_p = -Phi_p with the smallest |q_p|).
+StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pim = nullptr,
+                           PimReport* report = nullptr);
 /// Integrates from `start` with the scene's integrator, sending frames to `obs`.
 IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,
                           const IntegratorSettings& set, Observer& obs);

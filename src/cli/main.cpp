@@ -23,12 +23,18 @@ int main(int argc, char** argv) {
   run->add_option("--integrator", integrator, "idas | trapezoidal | bdf1 (default: the scene's)");
   run->add_option("--t-end", tEnd, "final time [s]");
   run->add_option("--dt", dt, "fixed step [s] (IDAS: largest step)");
+  std::vector<std::string> cases;
+  run->add_option("--case", cases, "PIM case to run (repeatable; default: every case of the scene)");
 
   std::string checkPath;
   auto* check = app.add_subcommand("check", "validate a scene and print its sizes");
   check->add_option("scene", checkPath, "scene file (YAML)")->required();
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 1;  // --help is success; any bad option is input error 1
+  }
   try {
     if (*check) {
       Scene sc = readScene(checkPath);
@@ -39,22 +45,42 @@ int main(int argc, char** argv) {
                 << "  " << m.elements.size() << " elements, " << m.constraints.size()
                 << " constraints, " << m.parameters.size() << " parameters, "
                 << sc.outputs.size() << " outputs\n";
+      for (const auto& name : sc.caseNames) {
+        Scene cs = readScene(checkPath, name);
+        const Model& cm = *cs.model;
+        int mr = 0;
+        for (const auto& c : cs.pimCase->lambda) mr += c->rows();
+        std::cout << "  case " << name << ": n = " << cm.n << ", m = " << cm.m << ", d = " << cm.n - cm.m
+                  << ", m_r = " << mr << ", d_s = " << cm.n - cm.m - mr << " (" << cs.pimCase->sdofs.size()
+                  << " SDOFs given)\n";
+      }
       return 0;
     }
     if (!integrator.empty()) opt.integrator = integrator;
     if (run->count("--t-end")) opt.tEnd = tEnd;
     if (run->count("--dt")) opt.dt = dt;
     if (!outDir.empty()) opt.outDir = outDir;
-    Scene sc = readScene(scenePath);
-    applyOptions(sc, opt);
-    std::cerr << "flexsens: running " << scenePath << " with " << sc.integrator.type << " to t = "
-              << sc.integrator.tEnd << " s\n";
-    const RunResult r = runScene(sc, sc.output.directory);
-    std::cout << "results written to " << r.directory << "/ (series.csv, "
-              << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
-              << "  " << r.stats.steps << " steps, " << r.stats.newtonIterations << " Newton iterations, "
-              << r.stats.factorizations << " factorizations, " << r.wallSeconds << " s wall, max |Phi| = "
-              << r.stats.maxConstraintViolation << "\n";
+    Scene base = readScene(scenePath);
+    if (cases.empty()) cases = base.caseNames;
+    if (cases.empty()) cases.push_back("");
+    // Validate every requested case (and the options) before anything is written.
+    std::vector<Scene> scenes;
+    for (const auto& c : cases) {
+      scenes.push_back(c.empty() ? std::move(base) : readScene(scenePath, c));
+      applyOptions(scenes.back(), opt);
+    }
+    for (size_t i = 0; i < scenes.size(); ++i) {
+      const Scene& sc = scenes[i];
+      const std::string dir = sc.output.directory + (cases[i].empty() ? "" : "/" + cases[i]);
+      std::cerr << "flexsens: running " << scenePath << (cases[i].empty() ? "" : " case " + cases[i])
+                << " with " << sc.integrator.type << " to t = " << sc.integrator.tEnd << " s\n";
+      const RunResult r = runScene(sc, dir);
+      std::cout << "results written to " << r.directory << "/ (series.csv, "
+                << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
+                << "  " << r.stats.steps << " steps, " << r.stats.newtonIterations << " Newton iterations, "
+                << r.stats.factorizations << " factorizations, " << r.wallSeconds << " s wall, max |Phi| = "
+                << r.stats.maxConstraintViolation << "\n";
+    }
     return 0;
   } catch (const InputError& e) {
     std::cerr << "flexsens: error: " << e.what() << "\n";

@@ -10,14 +10,22 @@ std::vector<int> iota(int start, int count) {
 }
 }  // namespace
 
-Assembler::Assembler(const Model& model) : model_(model) {
+Assembler::Assembler(const Model& model, const ConstraintList* constraints)
+    : model_(model), cons_(constraints ? *constraints : model.constraints) {
   for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes()));
-  int row = 0;
-  for (const auto& c : model_.constraints) {
+  for (const auto& c : cons_) {
     consDofs_.push_back(dofMap(c->nodes()));
-    consRow_.push_back(row);
-    row += c->rows();
+    consRow_.push_back(m_);
+    m_ += c->rows();
   }
+}
+
+std::string Assembler::rowLabel(int r) const {
+  for (size_t c = 0; c < cons_.size(); ++c)
+    if (r >= consRow_[c] && r < consRow_[c] + cons_[c]->rows())
+      return cons_[c]->rows() == 1 ? cons_[c]->name()
+                                   : cons_[c]->name() + "[" + std::to_string(r - consRow_[c]) + "]";
+  return "row " + std::to_string(r);
 }
 
 std::vector<int> Assembler::dofMap(const std::vector<int>& nodes) const {
@@ -65,8 +73,8 @@ VecX Assembler::force(const VecX& q, const VecX& v, const VecX& p) const {
 VecX Assembler::phi(const VecX& q, const VecX& p) const {
   VecX r(m());
   VecX pl;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     co.phi(localState(co.nodes(), q, VecX(), p), pl);
     r.segment(consRow_[c], co.rows()) = pl;
   }
@@ -76,8 +84,8 @@ VecX Assembler::phi(const VecX& q, const VecX& p) const {
 VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
   VecX r = VecX::Zero(m());
   MatX J;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     co.jacobian(localState(co.nodes(), q, VecX(), p), J);
     const auto& map = consDofs_[c];
     for (size_t j = 0; j < map.size(); ++j)
@@ -89,8 +97,8 @@ VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
 VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const {
   VecX r = VecX::Zero(n());
   MatX J;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     co.jacobian(localState(co.nodes(), q, VecX(), p), J);
     const auto& map = consDofs_[c];
     const VecX g = J.transpose() * l.segment(consRow_[c], co.rows());
@@ -116,8 +124,8 @@ VecX Assembler::hessianQuadratic(const VecX& q, const VecX& p, const VecX& v) co
 VecX Assembler::hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const {
   VecX r = VecX::Zero(m());
   MatX H;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     const LocalState s = localState(co.nodes(), q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v), xl = gather(consDofs_[c], x);
     for (int i = 0; i < co.rows(); ++i) {
@@ -131,8 +139,8 @@ VecX Assembler::hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, co
 VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const {
   VecX r = VecX::Zero(n());
   MatX H;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     const LocalState s = localState(co.nodes(), q, VecX(), p);
     const auto& map = consDofs_[c];
     const VecX xl = gather(map, x);
@@ -187,8 +195,8 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
 void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, double s,
                         int64_t r0, int64_t c0, bool transposed) const {
   MatX J;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     co.jacobian(localState(co.nodes(), q, VecX(), p), J);
     const std::vector<int> rows = iota(consRow_[c], co.rows());
     if (transposed)
@@ -201,8 +209,8 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
 void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p, const VecX& w,
                            double s, int64_t r0, int64_t c0) const {
   MatX H, sum;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     const LocalState ls = localState(co.nodes(), q, VecX(), p);
     const int nl = static_cast<int>(consDofs_[c].size());
     sum.setZero(nl, nl);
@@ -217,8 +225,8 @@ void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p,
 void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX& p,
                                const VecX& v, double s, int64_t r0, int64_t c0) const {
   MatX H;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     const LocalState ls = localState(co.nodes(), q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v);
     MatX rowsBlock(co.rows(), consDofs_[c].size());
@@ -266,8 +274,8 @@ VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {
   VecX r = VecX::Zero(m());
   VecX dphi;
   MatX dJ;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     if (co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ))
       r.segment(consRow_[c], co.rows()) = dphi;
   }
@@ -278,8 +286,8 @@ VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, co
   VecX r = VecX::Zero(m());
   VecX dphi;
   MatX dJ;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     if (co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ) && dJ.size())
       r.segment(consRow_[c], co.rows()) = dJ * gather(consDofs_[c], x);
   }
@@ -291,8 +299,8 @@ VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, 
   VecX r = VecX::Zero(n());
   VecX dphi;
   MatX dJ;
-  for (size_t c = 0; c < model_.constraints.size(); ++c) {
-    const auto& co = *model_.constraints[c];
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
     if (!co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ) || !dJ.size())
       continue;
     const VecX g = dJ.transpose() * l.segment(consRow_[c], co.rows());

@@ -5,6 +5,8 @@
 // so each block is written once, at a row/column offset and with a scale chosen by the caller.
 #pragma once
 
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "core/Model.hpp"
@@ -14,10 +16,16 @@ namespace flexsens {
 
 class Assembler {
  public:
-  explicit Assembler(const Model& model);
+  using ConstraintList = std::vector<std::unique_ptr<Constraint>>;
+  /// Assembles the model's elements and `constraints` (default: the model's own). The PIM
+  /// passes its rigidization constraints Lambda here to reuse the same path.
+  explicit Assembler(const Model& model, const ConstraintList* constraints = nullptr);
   const Model& model() const { return model_; }
   int n() const { return model_.n; }
-  int m() const { return model_.m; }
+  int m() const { return m_; }
+  const ConstraintList& constraints() const { return cons_; }
+  /// Label of constraint row r, e.g. "bar_A1.length" or "fx[1]".
+  std::string rowLabel(int r) const;
 
   // --- vectors -----------------------------------------------------------------------
   VecX force(const VecX& q, const VecX& v, const VecX& p) const;          ///< Q [N]
@@ -65,6 +73,8 @@ class Assembler {
  private:
   std::vector<int> dofMap(const std::vector<int>& nodes) const;
   const Model& model_;
+  const ConstraintList& cons_;
+  int m_ = 0;
   std::vector<std::vector<int>> elemDofs_, consDofs_;
   std::vector<int> consRow_;
   std::vector<int> consRowsLocal_;

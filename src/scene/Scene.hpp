@@ -7,6 +7,7 @@
 
 #include "core/Model.hpp"
 #include "integrators/Settings.hpp"
+#include "pim/Pim.hpp"
 
 namespace flexsens {
 
@@ -29,11 +30,15 @@ struct Scene {
   IntegratorSettings integrator;
   std::vector<OutputSpec> outputs;
   OutputSettings output;
+  std::vector<std::string> caseNames;  ///< all PIM cases the scene defines, in order
+  std::unique_ptr<PimCase> pimCase;    ///< the case this model was built for, if any
 };
 
 /// Reads and validates a scene file; throws InputError naming file:line, key and expectation.
-Scene readScene(const std::string& path);
+/// With caseName, the model is built for that PIM case (its rigid models, its parameters).
+Scene readScene(const std::string& path, const std::string& caseName = "");
 /// Same, from text (tests); `name` is used in messages as the file name.
-Scene readSceneText(const std::string& text, const std::string& name);
+Scene readSceneText(const std::string& text, const std::string& name,
+                    const std::string& caseName = "");
 
 }  // namespace flexsens

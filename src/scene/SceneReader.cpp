@@ -3,12 +3,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "constraints/Distance.hpp"
 #include "elements/Beam.hpp"
 #include "elements/RigidBar.hpp"
+#include "pim/Rigidization.hpp"
 #include "scene/Scene.hpp"
 #include "scene/YamlReader.hpp"
 
@@ -20,18 +22,16 @@ std::string at(const std::string& list, size_t i) { return list + "[" + std::to_
 
 class Builder {
  public:
-  explicit Builder(const std::string& file) : r_(file) {}
+  Builder(const std::string& file, std::string caseName) : r_(file), caseName_(std::move(caseName)) {}
 
   Scene build(const YAML::Node& root) {
     Scene sc;
     sc.file = r_.file();
-    if (!root || root.IsNull()) {
-      YAML::Node empty;
-      r_.fail(empty, "dimension", "the scene is empty; expected a mapping with at least the keys "
-                                  "dimension, nodes and integrator");
-    }
+    if (!root || root.IsNull())
+      throw InputError(r_.file() + ":1:1: key 'dimension': the scene is empty; expected a mapping "
+                       "with at least the keys dimension, nodes and integrator");
     r_.allowKeys(root, "", {"dimension", "plane", "gravity", "nodes", "elements", "constraints",
-                            "parameters", "integrator", "outputs", "output", "description"});
+                            "parameters", "integrator", "outputs", "output", "description", "cases"});
     sc.model = std::make_unique<Model>();
     Model& m = *sc.model;
     const YAML::Node dimNode = r_.require(root, "dimension", "");
@@ -47,8 +47,15 @@ class Builder {
     readNodes(r_.require(root, "nodes", ""), m);
     if (root["elements"]) readElements(root["elements"], m);
     if (root["constraints"]) readConstraints(root["constraints"], m);
+    // yaml-cpp: a default Node is "defined" (null) and '=' assigns content, hence optional.
+    const std::optional<YAML::Node> caseNode =
+        root["cases"] ? selectCase(root["cases"], sc) : std::optional<YAML::Node>();
+    if (caseNode) applyRigidModels(*caseNode, m);
     m.finalize();
-    if (root["parameters"]) readParameters(root["parameters"], m);
+    if (root["parameters"]) readParameters(root["parameters"], m, caseNode.has_value());
+    else if (!caseParamNodes_.empty())
+      r_.fail(caseParamNodes_.front().second, caseParamPath_, "the scene defines no parameters (add a 'parameters' list)");
+    if (caseNode) sc.pimCase = readPimCase(*caseNode, m);
     readIntegrator(r_.require(root, "integrator", ""), sc.integrator);
     if (root["outputs"]) readOutputs(root["outputs"], sc);
     readOutputSettings(root["output"], sc);
@@ -113,10 +120,13 @@ class Builder {
   }
 
   /// A length given as a positive number or "auto" (the initial distance of the nodes).
-  Quantity length(const YAML::Node& n, const std::string& path, const Model& m, int a, int b) const {
+  /// `item` is the element or constraint (for the error position when the key is absent).
+  Quantity length(const YAML::Node& item, const std::string& key, const std::string& path,
+                  const Model& m, int a, int b) const {
+    const YAML::Node n = item[key];
     if (!n || r_.isAuto(n)) {
       const double d = distance(m, a, b);
-      if (!(d > 0)) r_.fail(n ? n : YAML::Node(), path, "the two nodes coincide, so 'auto' gives a zero length");
+      if (!(d > 0)) r_.fail(n ? n : item, path, "the two nodes coincide, so 'auto' gives a zero length; give the length");
       return {d, -1};
     }
     return {r_.positive(n, path), -1};
@@ -139,7 +149,7 @@ class Builder {
         const Quantity mass{r_.positive(r_.require(el, "mass", path), path + ".mass"), -1};
         auto bar = std::make_unique<RigidBar>(name, ids[0], ids[1], mass);
         auto con = std::make_unique<DistanceConstraint>(name + ".length", ids[0], ids[1],
-                                                        length(el["length"], path + ".length", m, ids[0], ids[1]));
+                                                        length(el, "length", path + ".length", m, ids[0], ids[1]));
         for (auto& [k, q] : bar->properties()) bind(name + "." + k, q);
         for (auto& [k, q] : con->properties()) bind(name + "." + k, q);
         m.elements.push_back(std::move(bar));
@@ -150,8 +160,9 @@ class Builder {
         const Quantity k{r_.nonNegative(r_.require(el, "stiffness", path), path + ".stiffness"), -1};
         const Quantity c{el["damping"] ? r_.nonNegative(el["damping"], path + ".damping") : 0.0, -1};
         auto sp = std::make_unique<SpringDamper>(name, ids[0], ids[1], k, c,
-                                                 length(el["natural_length"], path + ".natural_length", m, ids[0], ids[1]));
+                                                 length(el, "natural_length", path + ".natural_length", m, ids[0], ids[1]));
         for (auto& [key, q] : sp->properties()) bind(name + "." + key, q);
+        bodies_[name] = {ids, sp->properties()[2].second};
         m.elements.push_back(std::move(sp));
       } else if (type == "beam") {
         readBeam(el, path, name, m);
@@ -181,6 +192,7 @@ class Builder {
       sec->inertia = {r_.positive(r_.require(s, "inertia", sp), sp + ".inertia"), -1};
     }
     for (auto& [k, q] : sec->properties()) bind(name + "." + k, q);
+    bodies_[name] = {ids, nullptr};
     for (size_t j = 0; j + 1 < ids.size(); ++j) {
       const double L = distance(m, ids[j], ids[j + 1]);
       if (!(L > 0)) r_.fail(el["nodes"][j + 1], at(path + ".nodes", j + 1), "coincides with the previous node: zero segment length");
@@ -208,7 +220,7 @@ class Builder {
         r_.allowKeys(c, path, {"name", "type", "nodes", "length"});
         const auto ids = nodeList(c, path, 2, 2);
         auto con = std::make_unique<DistanceConstraint>(name, ids[0], ids[1],
-                                                        length(c["length"], path + ".length", m, ids[0], ids[1]));
+                                                        length(c, "length", path + ".length", m, ids[0], ids[1]));
         for (auto& [k, q] : con->properties()) bind(name + "." + k, q);
         m.constraints.push_back(std::move(con));
       } else if (type == "fixed") {
@@ -224,16 +236,18 @@ class Builder {
   }
 
   // --------------------------------------------------------------------- parameters
-  void readParameters(const YAML::Node& list, Model& m) {
+  void readParameters(const YAML::Node& list, Model& m, bool forCase) {
     r_.requireList(list, "parameters");
+    std::set<std::string> seen;
     for (size_t i = 0; i < list.size(); ++i) {
       const YAML::Node pn = list[i];
       const std::string path = at("parameters", i);
       r_.allowKeys(pn, path, {"name", "of", "property"});
       Parameter par;
       par.name = r_.text(r_.require(pn, "name", path), path + ".name");
-      for (const auto& other : m.parameters)
-        if (other.name == par.name) r_.fail(pn["name"], path + ".name", "duplicate parameter name '" + par.name + "'");
+      if (!seen.insert(par.name).second)
+        r_.fail(pn["name"], path + ".name", "duplicate parameter name '" + par.name + "'");
+      allParams_.insert(par.name);
       const std::string of = r_.text(r_.require(pn, "of", path), path + ".of");
       const std::string prop = r_.text(r_.require(pn, "property", path), path + ".property");
       par.boundTo = of + "." + prop;
@@ -246,6 +260,7 @@ class Builder {
                 avail.empty() ? "no element or constraint named '" + of + "' has parameters"
                               : "'" + of + "' has no property '" + prop + "'; expected one of: " + avail);
       }
+      if (forCase && !caseParams_.count(par.name)) continue;  // not a parameter of this case
       const int k = static_cast<int>(m.parameters.size());
       par.nominal = it->second.front()->constant;
       for (Quantity* q : it->second) {
@@ -254,6 +269,153 @@ class Builder {
       }
       m.parameters.push_back(par);
     }
+    for (const auto& [name, node] : caseParamNodes_)
+      if (!allParams_.count(name)) r_.fail(node, caseParamPath_, "no parameter named '" + name + "' under parameters");
+  }
+
+  // -------------------------------------------------------------------------- cases
+  /// Validates every case's keys and names; returns the selected one (or null).
+  std::optional<YAML::Node> selectCase(const YAML::Node& list, Scene& sc) {
+    r_.requireList(list, "cases");
+    std::optional<YAML::Node> selected;
+    for (size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node c = list[i];
+      const std::string path = at("cases", i);
+      r_.allowKeys(c, path, {"name", "parameters", "rigidize", "rigid_model", "sdofs", "description"});
+      const std::string name = r_.text(r_.require(c, "name", path), path + ".name");
+      for (const auto& other : sc.caseNames)
+        if (other == name) r_.fail(c["name"], path + ".name", "duplicate case name '" + name + "'");
+      sc.caseNames.push_back(name);
+      if (name == caseName_) { selected.emplace(c); casePath_ = path; }
+    }
+    if (!caseName_.empty() && !selected) {
+      std::string names;
+      for (const auto& n : sc.caseNames) names += (names.empty() ? "" : ", ") + n;
+      r_.fail(list, "cases", "no case named '" + caseName_ + "'; the scene defines: " + names);
+    }
+    if (selected) {
+      const YAML::Node ps = r_.require(*selected, "parameters", casePath_);
+      caseParamPath_ = casePath_ + ".parameters";
+      r_.requireList(ps, caseParamPath_);
+      for (size_t i = 0; i < ps.size(); ++i) {
+        const std::string pn = r_.text(ps[i], at(caseParamPath_, i));
+        caseParams_.insert(pn);
+        caseParamNodes_.emplace_back(pn, ps[i]);
+      }
+    }
+    return selected;
+  }
+
+  /// The listed bodies (names under `key`), checked to exist as flexible bodies.
+  std::vector<std::string> bodyList(const YAML::Node& c, const std::string& key) {
+    std::vector<std::string> out;
+    if (!c[key]) return out;
+    const std::string path = casePath_ + "." + key;
+    r_.requireList(c[key], path);
+    for (size_t i = 0; i < c[key].size(); ++i) {
+      const std::string b = r_.text(c[key][i], at(path, i));
+      if (!bodies_.count(b)) {
+        std::string avail;
+        for (const auto& [k, v] : bodies_) avail += (avail.empty() ? "" : ", ") + k;
+        r_.fail(c[key][i], at(path, i), "no flexible body (beam or spring) named '" + b + "'" +
+                                             (avail.empty() ? std::string() : "; the scene has: " + avail));
+      }
+      out.push_back(b);
+    }
+    return out;
+  }
+
+  static MatX positions(const Model& m) {
+    MatX X(m.dim, m.nodes.size());
+    for (size_t i = 0; i < m.nodes.size(); ++i) X.col(i) = m.nodes[i].position;
+    return X;
+  }
+
+  /// F-R twins: bodies modelled rigid become rigid bodies through the rigidization generator.
+  void applyRigidModels(const YAML::Node& c, Model& m) {
+    for (const auto& b : bodyList(c, "rigid_model")) {
+      Rigidization R = rigidize(b, bodies_[b].nodes, m, positions(m), r_.file() + ": case '" + caseName_ + "'");
+      for (auto& con : R.constraints) m.constraints.push_back(std::move(con));
+    }
+  }
+
+  std::unique_ptr<PimCase> readPimCase(const YAML::Node& c, const Model& m) {
+    auto pc = std::make_unique<PimCase>();
+    pc->name = caseName_;
+    pc->file = r_.file();
+    pc->rigidModel = bodyList(c, "rigid_model");
+    pc->rigidized = bodyList(c, "rigidize");
+    for (const auto& p : m.parameters) pc->parameters.push_back(p.name);
+    for (size_t i = 0; i < pc->rigidized.size(); ++i) {
+      const std::string& b = pc->rigidized[i];
+      if (std::count(pc->rigidModel.begin(), pc->rigidModel.end(), b))
+        r_.fail(c["rigidize"][i], at(casePath_ + ".rigidize", i), "'" + b + "' is already rigid in this case (rigid_model)");
+      Rigidization R = rigidize(b, bodies_[b].nodes, m, positions(m), r_.file() + ": case '" + caseName_ + "'",
+                                bodies_[b].pairLength);
+      for (auto& con : R.constraints) pc->lambda.push_back(std::move(con));
+    }
+    if (c["sdofs"]) {
+      const std::string path = casePath_ + ".sdofs";
+      r_.requireList(c["sdofs"], path);
+      for (size_t i = 0; i < c["sdofs"].size(); ++i) pc->sdofs.push_back(readSdof(c["sdofs"][i], at(path, i), m));
+    }
+    return pc;
+  }
+
+  int component(const YAML::Node& n, const std::string& path, const Model& m) const {
+    const std::string comp = r_.text(n, path);
+    for (int c = 0; c < m.dim; ++c)
+      if (comp.size() == 1 && comp[0] == m.axisName(c)) return c;
+    std::string axes;
+    for (int c = 0; c < m.dim; ++c) axes += std::string(axes.empty() ? "" : ", ") + m.axisName(c);
+    r_.fail(n, path, "expected one of " + axes + " (the scene's axes)");
+  }
+
+  std::unique_ptr<Sdof> readSdof(const YAML::Node& z, const std::string& path, const Model& m) {
+    r_.allowKeys(z, path, {"node", "component", "angle", "combination", "dp", "dv", "name"});
+    std::unique_ptr<Sdof> out;
+    if (z["angle"]) {
+      if (m.dim != 2) r_.fail(z["angle"], path + ".angle", "segment angles are planar SDOFs (dimension 2)");
+      const YAML::Node a = z["angle"];
+      if (!a.IsSequence() || a.size() != 2) r_.fail(a, path + ".angle", "expected a list of two node names [from, to]");
+      auto s = std::make_unique<AngleSdof>();
+      s->a = node(a[0], path + ".angle[0]");
+      s->b = node(a[1], path + ".angle[1]");
+      s->name = "angle(" + m.nodes[s->a].name + "," + m.nodes[s->b].name + ")";
+      out = std::move(s);
+    } else if (z["combination"]) {
+      const YAML::Node list = z["combination"];
+      const std::string cp = path + ".combination";
+      if (!list.IsSequence() || list.size() == 0) r_.fail(list, cp, "expected a list of [coefficient, node, component]");
+      auto s = std::make_unique<LinearSdof>();
+      for (size_t j = 0; j < list.size(); ++j) {
+        const YAML::Node t = list[j];
+        if (!t.IsSequence() || t.size() != 3) r_.fail(t, at(cp, j), "expected [coefficient, node, component]");
+        const double coef = r_.number(t[0], at(cp, j) + "[0]");
+        const int nd = node(t[1], at(cp, j) + "[1]");
+        const int c = component(t[2], at(cp, j) + "[2]", m);
+        s->terms.push_back({nd, c, coef});
+        s->name += (j ? " + " : "") + jsonish(coef) + " " + std::string(1, m.axisName(c)) + "(" + m.nodes[nd].name + ")";
+      }
+      out = std::move(s);
+    } else {
+      auto s = std::make_unique<LinearSdof>();
+      const int nd = node(r_.require(z, "node", path), path + ".node");
+      const int c = component(r_.require(z, "component", path), path + ".component", m);
+      s->terms.push_back({nd, c, 1.0});
+      s->name = std::string(1, m.axisName(c)) + "(" + m.nodes[nd].name + ")";
+      out = std::move(s);
+    }
+    if (z["name"]) out->name = r_.text(z["name"], path + ".name");
+    if (z["dp"]) out->dp = r_.number(z["dp"], path + ".dp");
+    if (z["dv"]) out->dv = r_.number(z["dv"], path + ".dv");
+    return out;
+  }
+
+  static std::string jsonish(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
   }
 
   // --------------------------------------------------------------------- integrator
@@ -314,7 +476,12 @@ class Builder {
     if (o["plots"]) sc.output.plots = r_.boolean(o["plots"], "output.plots");
   }
 
+  struct Body { std::vector<int> nodes; const Quantity* pairLength; };
   YamlReader r_;
+  std::string caseName_, casePath_, caseParamPath_;
+  std::set<std::string> caseParams_, allParams_;
+  std::vector<std::pair<std::string, YAML::Node>> caseParamNodes_;
+  std::map<std::string, Body> bodies_;
   std::map<std::string, int> nodeIndex_;
   std::set<std::string> names_;
   std::map<std::string, std::vector<Quantity*>> bindings_;
@@ -322,7 +489,7 @@ class Builder {
 
 }  // namespace
 
-Scene readSceneText(const std::string& text, const std::string& name) {
+Scene readSceneText(const std::string& text, const std::string& name, const std::string& caseName) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -332,15 +499,15 @@ Scene readSceneText(const std::string& text, const std::string& name) {
        << "YAML syntax error: " << e.msg;
     throw InputError(os.str());
   }
-  return Builder(name).build(root);
+  return Builder(name, caseName).build(root);
 }
 
-Scene readScene(const std::string& path) {
+Scene readScene(const std::string& path, const std::string& caseName) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the scene file (does it exist and is it readable?)");
   std::stringstream ss;
   ss << in.rdbuf();
-  return readSceneText(ss.str(), path);
+  return readSceneText(ss.str(), path, caseName);
 }
 
 }  // namespace flexsens

@@ -11,7 +11,7 @@ void YamlReader::fail(const YAML::Node& at, const std::string& key, const std::s
   const YAML::Mark mk = at.Mark();
   os << file_;
   if (mk.line >= 0) os << ":" << mk.line + 1 << ":" << mk.column + 1;
-  os << ": key '" << key << "': " << msg;
+  os << ": key '" << (key.empty() ? "(top level)" : key) << "': " << msg;
   throw InputError(os.str());
 }
 
@@ -27,8 +27,11 @@ void YamlReader::allowKeys(const YAML::Node& map, const std::string& path,
                            std::initializer_list<const char*> keys) const {
   requireMap(map, path);
   const std::set<std::string> allowed(keys.begin(), keys.end());
+  std::set<std::string> seen;
   for (const auto& kv : map) {
     const std::string k = kv.first.as<std::string>();
+    if (!seen.insert(k).second)
+      fail(kv.first, path.empty() ? k : path + "." + k, "repeated key; give each key once");
     if (allowed.count(k)) continue;
     std::string list;
     for (const auto& a : keys) list += (list.empty() ? "" : ", ") + std::string(a);

@@ -1,0 +1,46 @@
+// The Perturbed Initial Model (paper sections 2-4): for a case, the rigidization constraints
+// Lambda(q) of its initially undeformed flexible bodies and its SDOFs z(q) complete the
+// constraints to a square system
+//   A = [Phi_q; Lambda_q; z_q],   A q_p0 = [-Phi_p; -Lambda_p; z_p0]            (eq. 8)
+//   A q'_p0 = [-(Phi_q q_p)_q q' - Phi_qp q'; same for Lambda; z'_p0 - (z_q q_p)_q q']  (eq. 9)
+// The remaining initial sensitivities (a_p0, lambda_p0) follow from the dynamics.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Assembler.hpp"
+#include "integrators/State.hpp"
+#include "pim/Sdof.hpp"
+
+namespace flexsens {
+
+struct PimCase {
+  std::string name;
+  std::string file;                          ///< scene file, for messages
+  std::vector<std::string> rigidized;        ///< bodies rigidized in the PIM
+  std::vector<std::string> rigidModel;       ///< bodies modelled rigid in this case (F-R twins)
+  std::vector<std::string> parameters;       ///< parameter names of the case
+  Assembler::ConstraintList lambda;          ///< Lambda(q, p)
+  std::vector<std::unique_ptr<Sdof>> sdofs;  ///< z(q)
+};
+
+struct PimReport {
+  int n = 0, m = 0, d = 0, mr = 0, ds = 0;
+  double condition = 0.0;  ///< 2-norm condition number of A
+  MatX qp, vp;             ///< n x (number of parameters)
+};
+
+/// Solves eqs. (8) and (9) at the consistent nominal state s (positions, velocities) and
+/// returns the full initial state with sensitivities. Throws InputError for a wrong SDOF
+/// count or a body that is not undeformed, NumericalError for a singular or near-singular A.
+StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State& s,
+                              const VecX& p, PimReport& report);
+
+/// The nonlinear PIM assembly at parameters p: q with Phi(q, p) = 0, Lambda(q, p) = 0 and
+/// z(q) = z(q0) + z_p0 (p_k - p0_k) (Newton from q0). For finite-difference validation.
+VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q0,
+                            const VecX& p0, const VecX& p, int k);
+
+}  // namespace flexsens

@@ -1,0 +1,89 @@
+#include "pim/Rigidization.hpp"
+
+#include <sstream>
+
+#include "constraints/Distance.hpp"
+
+namespace flexsens {
+
+AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<int> nodes,
+                                                 VecX coefficients, int dim)
+    : Constraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim) {
+  const int k = static_cast<int>(c_.size());
+  const MatX I = MatX::Identity(dim, dim);
+  J_.setZero(dim, dim * (k + 2));
+  J_.block(0, 0, dim, dim) = (c_.sum() - 1.0) * I;            // A
+  for (int j = 0; j < k; ++j) J_.block(0, dim * (1 + j), dim, dim) = -c_[j] * I;  // basis ends
+  J_.block(0, dim * (k + 1), dim, dim) = I;                   // the attached point
+}
+
+void AttachedPointConstraint::phi(const LocalState& s, VecX& out) const { out = J_ * s.x; }
+void AttachedPointConstraint::jacobian(const LocalState&, MatX& J) const { J = J_; }
+void AttachedPointConstraint::hessian(const LocalState&, int, MatX& H) const {
+  H.setZero(J_.cols(), J_.cols());
+}
+
+int Rigidization::rows() const {
+  int r = 0;
+  for (const auto& c : constraints) r += c->rows();
+  return r;
+}
+
+Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, const Model& m,
+                      const MatX& X, const std::string& where, const Quantity* pairLength) {
+  const int dim = m.dim;
+  if (nodes.size() < 2) throw InputError(where + ": a rigid body needs at least two nodes");
+  Rigidization R;
+  auto pos = [&](int i) -> VecX { return X.col(nodes[i]); };
+  double size = 0.0;
+  for (size_t i = 1; i < nodes.size(); ++i) size = std::max(size, (pos(i) - pos(0)).norm());
+  if (!(size > 0)) throw InputError(where + ": all nodes of '" + name + "' coincide");
+  const double tol = 1e-9 * size;
+  // Basic points: A = first node, then greedily the point farthest from the span so far.
+  std::vector<int> basic = {0};
+  MatX E(dim, 0);  // orthonormal basis of the span, to measure distances from it
+  for (int level = 0; level < dim; ++level) {
+    int best = -1;
+    double bestDist = tol;
+    for (size_t i = 1; i < nodes.size(); ++i) {
+      VecX r = pos(i) - pos(0);
+      if (E.cols()) r -= E * (E.transpose() * r);
+      if (r.norm() > bestDist) { bestDist = r.norm(); best = static_cast<int>(i); }
+    }
+    if (best < 0) break;
+    basic.push_back(best);
+    VecX e = pos(best) - pos(0);
+    if (E.cols()) e -= E * (E.transpose() * e);
+    E.conservativeResize(dim, E.cols() + 1);
+    E.col(E.cols() - 1) = e.normalized();
+  }
+  R.cloudDimension = static_cast<int>(basic.size()) - 1;
+  for (int b : basic) R.basicPoints.push_back(nodes[b]);
+  // Distances among basic points (1, 3 or 6 quadratic constraints).
+  for (size_t i = 0; i < basic.size(); ++i)
+    for (size_t j = i + 1; j < basic.size(); ++j) {
+      Quantity L{(pos(basic[j]) - pos(basic[i])).norm(), -1};
+      if (pairLength && nodes.size() == 2) L = *pairLength;
+      R.constraints.push_back(std::make_unique<DistanceConstraint>(
+          name + ".rigid.d(" + m.nodes[nodes[basic[i]]].name + "," + m.nodes[nodes[basic[j]]].name + ")",
+          nodes[basic[i]], nodes[basic[j]], L));
+    }
+  // Attached points: G c_i = b_i with G_jk = e_j . e_k, b_ij = r_Ai . e_j.
+  const int k = R.cloudDimension;
+  MatX B(dim, k);
+  for (int j = 0; j < k; ++j) B.col(j) = pos(basic[j + 1]) - pos(0);
+  const MatX G = B.transpose() * B;
+  const Eigen::LDLT<MatX> metric(G);
+  for (size_t i = 1; i < nodes.size(); ++i) {
+    if (std::find(basic.begin(), basic.end(), static_cast<int>(i)) != basic.end()) continue;
+    const VecX c = metric.solve(B.transpose() * (pos(i) - pos(0)));
+    std::vector<int> ids;
+    for (int b : basic) ids.push_back(nodes[b]);
+    ids.push_back(nodes[i]);
+    R.constraints.push_back(std::make_unique<AttachedPointConstraint>(
+        name + ".rigid.point(" + m.nodes[nodes[i]].name + ")", ids, c, dim));
+  }
+  return R;
+}
+
+}  // namespace flexsens

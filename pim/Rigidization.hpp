@@ -1,0 +1,49 @@
+// The one rigidization generator (paper section 4): turns a cloud of nodes into a rigid body
+// in natural coordinates. Basic points A, B (1D), A, B, C (2D) or A, B, C, D (3D) keep their
+// mutual distances (quadratic constraints); every other point i keeps its coordinates c_i in
+// the basis e_j = r_j - r_A, found once from the metric G c_i = b_i:
+//   Lambda_i = r_i - r_A - sum_j c_ij e_j = C_i q   (linear, dim rows).
+// Used by the PIM for initially undeformed flexible bodies, and for rigid models of bodies.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+
+namespace flexsens {
+
+/// Linear constraint Lambda_i = r_i - r_A - sum_j c_j (r_Bj - r_A); nodes = (A, B.., i).
+class AttachedPointConstraint : public Constraint {
+ public:
+  AttachedPointConstraint(std::string name, std::vector<int> nodes, VecX coefficients, int dim);
+  std::string kind() const override { return "attached_point"; }
+  int rows() const override { return dim_; }
+  void phi(const LocalState& s, VecX& out) const override;
+  void jacobian(const LocalState& s, MatX& J) const override;
+  void hessian(const LocalState& s, int r, MatX& H) const override;
+  bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
+
+ private:
+  VecX c_;
+  int dim_;
+  MatX J_;  ///< constant Jacobian, dim x dim*(k+2)
+};
+
+struct Rigidization {
+  int cloudDimension = 0;            ///< 1, 2 or 3
+  std::vector<int> basicPoints;      ///< node indices A, B, (C, (D))
+  std::vector<std::unique_ptr<Constraint>> constraints;
+  int rows() const;
+};
+
+/// Rigidizes the cloud `nodes` at positions X (one column per model node). `pairLength`,
+/// if given, is the quantity the distance of a two-node cloud keeps (e.g. a spring's
+/// natural length, so that a parameter bound to it enters Lambda_p). Throws InputError
+/// (prefixed by `where`) for degenerate clouds.
+Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, const Model& m,
+                      const MatX& X, const std::string& where, const Quantity* pairLength = nullptr);
+
+}  // namespace flexsens

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Configures (once) and builds flexsens in Release into build/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+if [ ! -f build/build.ninja ]; then
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+cmake --build build -j "$(nproc)"
+test -x build/flexsens

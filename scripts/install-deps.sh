@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages flexsens needs; quiet and quick when all are present.
+set -euo pipefail
+PACKAGES=(
+  g++ cmake ninja-build              # toolchain
+  libeigen3-dev                      # dense/sparse linear algebra
+  libsuitesparse-dev                 # KLU sparse LU
+  libsundials-dev                    # IDAS (+ nvecserial, sunmatrixsparse, sunlinsolklu)
+  libgmsh-dev                        # Gmsh SDK (geometry -> node chains)
+  libvtk9-dev                        # VTK XML writers (.vtu)
+  libyaml-cpp-dev                    # scene files
+  libcli11-dev                       # command line
+  libgtest-dev                       # tests
+  python3-matplotlib                 # PNG plots of the results
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "flexsens: installing ${missing[*]}" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
