@@ -221,6 +221,11 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg", pb, t);
   check(IDASetMaxNumSteps(ida, 1000000), "IDASetMaxNumSteps", pb, t);
   if (set.dt > 0) check(IDASetMaxStep(ida, set.dt), "IDASetMaxStep", pb, t);
+  // IDAS' own first-step estimate makes |h y'| small in the error weights; starting from
+  // rest with tight atol that gives h ~ 1e-11 s, where the index-2 iteration matrix
+  // (condition ~ 1/h^2) is too ill-conditioned for the corrector. Start at a step that
+  // the error test will cut if needed, but not so small.
+  check(IDASetInitStep(ida, std::min(1e-6, 1e-3 * set.frameInterval)), "IDASetInitStep", pb, t);
 
   // Pattern: assemble once at the initial state to size the sparse matrix.
   {
