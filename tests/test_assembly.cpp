@@ -26,12 +26,15 @@ nodes:
   - {name: n2, position: [0.5, -2]}
   - {name: n3, position: [2, -1]}
   - {name: n4, position: [2.5, 0.3]}
+  - {name: n5, position: [-1.5, -1.4]}
+  - {name: n6, position: [-2.1, -1.5]}
 elements:
   - {name: bA1, type: rigid_bar, nodes: [A, n1], mass: 1.0}
   - {name: b12, type: rigid_bar, nodes: [n1, n2], mass: 1.5}
   - {name: s23, type: spring_damper, nodes: [n2, n3], stiffness: 50, damping: 3, natural_length: 1.3}
   - {name: s3A, type: spring_damper, nodes: [n3, A], stiffness: 20, damping: 0.5}
   - {name: b34, type: rigid_bar, nodes: [n3, n4], mass: 0.7}
+  - {name: beam, type: beam, nodes: [n1, n5, n6], E: 2.0e6, density: 500, section: {side: 0.05}}
 constraints:
   - {name: d24, type: distance, nodes: [n2, n4], length: 2.9}
   - {name: fx, type: fixed, node: n4, position: [2.5, 0.3]}
@@ -42,6 +45,9 @@ parameters:
   - {name: c, of: s23, property: damping}
   - {name: L0, of: s23, property: natural_length}
   - {name: Ld, of: d24, property: length}
+  - {name: gz, of: gravity, property: z}
+  - {name: E, of: beam, property: E}
+  - {name: rho, of: beam, property: density}
 integrator: {type: idas, t_end: 1}
 )", "mixed.yaml");
 }
@@ -128,7 +134,7 @@ TEST(Assembly, ParameterDerivativesMatchFiniteDifferences) {
   Scene sc = mixedScene();
   Assembler as(*sc.model);
   const VecX p = sc.model->nominalParameters();
-  ASSERT_EQ(p.size(), 6);
+  ASSERT_EQ(p.size(), 9);
   const VecX q = perturbed(sc.model->initialPositions(), 6, 0.1);
   const VecX v = perturbed(VecX::Zero(as.n()), 7, 1.0);
   const VecX a = perturbed(VecX::Zero(as.n()), 8, 1.0);

@@ -164,11 +164,14 @@ TEST(Pim, TrapezoidalDiscreteSensitivitiesMatchFiniteDifferencesForEveryCase) {
   IntegratorSettings set;
   set.type = "trapezoidal";
   set.dt = 1e-3;
-  set.tEnd = 1.0;
   set.frameInterval = 0.5;
   set.newtonTol = 1e-14;
-  for (const char* name : {"R1", "R2", "R3", "F1", "F2", "F3", "F4", "F5", "F6", "F1R", "F6R"})
-    checkAgainstFiniteDifferences(name, set, {0.5, 1.0}, 1e-5, 1e-5, 1e-7);
+  // Rigid cases to 1 s: beyond, their finite differences stop converging (see below).
+  set.tEnd = 1.0;
+  for (const char* name : {"R1", "R2", "R3"}) checkAgainstFiniteDifferences(name, set, {0.5, 1.0}, 1e-5, 1e-5, 1e-7);
+  set.tEnd = 2.0;
+  for (const char* name : {"F1", "F2", "F3", "F4", "F5", "F6", "F1R", "F2R", "F3R", "F4R", "F5R", "F6R"})
+    checkAgainstFiniteDifferences(name, set, {0.5, 1.0, 2.0}, 1e-5, 1e-5, 1e-7);
 }
 
 namespace {

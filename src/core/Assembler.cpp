@@ -12,6 +12,7 @@ std::vector<int> iota(int start, int count) {
 
 Assembler::Assembler(const Model& model, const ConstraintList* constraints)
     : model_(model), cons_(constraints ? *constraints : model.constraints) {
+  for (int g : model_.gravityParam) gravityBound_ = gravityBound_ || g >= 0;
   for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes()));
   for (const auto& c : cons_) {
     consDofs_.push_back(dofMap(c->nodes()));
@@ -52,7 +53,12 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
     }
   }
   s.p = &p;
-  s.gravity = &model_.gravity;
+  if (gravityBound_) {
+    gravityAtP_ = model_.gravityAt(p);
+    s.gravity = &gravityAtP_;
+  } else {
+    s.gravity = &model_.gravity;
+  }
   return s;
 }
 
@@ -243,6 +249,21 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
   VecX r = VecX::Zero(n());
   VecX dQ;
   MatX dM;
+  // Gravity loads are M times the uniform acceleration (rigid bars and consistent beam
+  // masses alike), so d Q / d g_c = M_e e_c element by element.
+  for (size_t c = 0; c < model_.gravityParam.size(); ++c) {
+    if (model_.gravityParam[c] != k) continue;
+    for (size_t e = 0; e < model_.elements.size(); ++e) {
+      const auto& el = *model_.elements[e];
+      if (!el.mass(localState(el.nodes(), q, v, p), dM)) continue;
+      VecX unit = VecX::Zero(dM.cols());
+      for (int a = 0; a < unit.size() / model_.dim; ++a) unit[a * model_.dim + c] = 1.0;
+      const VecX g = dM * unit;
+      const auto& map = elemDofs_[e];
+      for (size_t i = 0; i < map.size(); ++i)
+        if (map[i] >= 0) r[map[i]] += g[i];
+    }
+  }
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     if (!el.parameterDerivative(localState(el.nodes(), q, v, p), k, dQ, dM)) continue;

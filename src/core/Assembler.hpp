@@ -78,6 +78,10 @@ class Assembler {
   std::vector<std::vector<int>> elemDofs_, consDofs_;
   std::vector<int> consRow_;
   std::vector<int> consRowsLocal_;
+  /// Gravity at the p of the current evaluation when a component is a design parameter
+  /// (elements read gravity through a pointer). Makes an Assembler single-threaded.
+  mutable VecX gravityAtP_;
+  bool gravityBound_ = false;
 };
 
 }  // namespace flexsens

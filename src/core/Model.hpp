@@ -27,7 +27,15 @@ struct Parameter {
 struct Model {
   int dim = 2;
   std::string plane = "xy";      ///< names of the two planar axes ("xy", "xz", "yz"); 3D uses xyz
-  VecX gravity;                  ///< dim entries [m/s^2]
+  VecX gravity;                  ///< dim entries [m/s^2] (nominal)
+  std::vector<int> gravityParam; ///< per component: design parameter index, or -1 (empty: none)
+  /// Gravity at parameters p (components bound to parameters take their values).
+  VecX gravityAt(const VecX& p) const {
+    VecX g = gravity;
+    for (size_t c = 0; c < gravityParam.size(); ++c)
+      if (gravityParam[c] >= 0) g[c] = p[gravityParam[c]];
+    return g;
+  }
   std::vector<Node> nodes;
   std::vector<std::unique_ptr<Element>> elements;
   std::vector<std::unique_ptr<Constraint>> constraints;

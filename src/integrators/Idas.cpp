@@ -281,14 +281,18 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     obs.progress(t);
     obs.frame(out);
   }
-  long v = 0;
-  IDAGetNumSteps(ida, &v); st.steps = v;
-  IDAGetNumNonlinSolvIters(ida, &v); st.newtonIterations = v;
-  IDAGetNumLinSolvSetups(ida, &v); st.factorizations = v;
-  IDAGetNumResEvals(ida, &v); st.residualEvaluations = v;
-  IDAGetNumJacEvals(ida, &v); st.jacobianEvaluations = v;
-  IDAGetNumErrTestFails(ida, &v); st.errorTestFailures = v;
-  IDAGetNumNonlinSolvConvFails(ida, &v); st.convergenceFailures = v;
+  auto counter = [&](int (*get)(void*, long*), const char* fn) {
+    long v = 0;
+    check(get(ida, &v), fn, pb, t);
+    return v;
+  };
+  st.steps = counter(IDAGetNumSteps, "IDAGetNumSteps");
+  st.newtonIterations = counter(IDAGetNumNonlinSolvIters, "IDAGetNumNonlinSolvIters");
+  st.factorizations = counter(IDAGetNumLinSolvSetups, "IDAGetNumLinSolvSetups");
+  st.residualEvaluations = counter(IDAGetNumResEvals, "IDAGetNumResEvals");
+  st.jacobianEvaluations = counter(IDAGetNumJacEvals, "IDAGetNumJacEvals");
+  st.errorTestFailures = counter(IDAGetNumErrTestFails, "IDAGetNumErrTestFails");
+  st.convergenceFailures = counter(IDAGetNumNonlinSolvConvFails, "IDAGetNumNonlinSolvConvFails");
   return st;
 }
 

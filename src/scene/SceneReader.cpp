@@ -252,7 +252,10 @@ class Builder {
       const std::string prop = r_.text(r_.require(pn, "property", path), path + ".property");
       par.boundTo = of + "." + prop;
       auto it = bindings_.find(par.boundTo);
-      if (it == bindings_.end()) {
+      if (of == "gravity") {
+        if (axisIndex(m, prop) < 0)
+          r_.fail(pn["property"], path + ".property", "gravity has the components of the scene's axes; got '" + prop + "'");
+      } else if (it == bindings_.end()) {
         std::string avail;
         for (const auto& [k, v] : bindings_)
           if (k.rfind(of + ".", 0) == 0) avail += (avail.empty() ? "" : ", ") + k.substr(of.size() + 1);
@@ -262,6 +265,15 @@ class Builder {
       }
       if (forCase && !caseParams_.count(par.name)) continue;  // not a parameter of this case
       const int k = static_cast<int>(m.parameters.size());
+      if (of == "gravity") {  // gravity components are model-level quantities
+        m.gravityParam.resize(m.dim, -1);
+        const int c = axisIndex(m, prop);
+        if (m.gravityParam[c] >= 0) r_.fail(pn, path, "'gravity." + prop + "' is bound to another parameter already");
+        m.gravityParam[c] = k;
+        par.nominal = m.gravity[c];
+        m.parameters.push_back(par);
+        continue;
+      }
       par.nominal = it->second.front()->constant;
       for (Quantity* q : it->second) {
         if (q->param >= 0) r_.fail(pn, path, "'" + par.boundTo + "' is bound to another parameter already");
@@ -360,6 +372,12 @@ class Builder {
       for (size_t i = 0; i < c["sdofs"].size(); ++i) pc->sdofs.push_back(readSdof(c["sdofs"][i], at(path, i), m));
     }
     return pc;
+  }
+
+  static int axisIndex(const Model& m, const std::string& a) {
+    for (int c = 0; c < m.dim; ++c)
+      if (a.size() == 1 && a[0] == m.axisName(c)) return c;
+    return -1;
   }
 
   int component(const YAML::Node& n, const std::string& path, const Model& m) const {

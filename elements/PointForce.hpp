@@ -1,0 +1,34 @@
+// Constant (dead) point force on one node: Q = F, independent of q and v, so dQ/dq = 0 and
+// dQ/dv = 0. Each component is a Quantity, so any of them may be a design parameter
+// (for instance a tip load that a static solver steps through p).
+//
+// Units: force components [N]; positions [m]; potential energy U = -F . x [J].
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/Element.hpp"
+
+namespace flexsens {
+
+class PointForce : public Element {
+ public:
+  /// components: dim entries [N] (2 planar, 3 spatial), in the order of the node's coordinates.
+  PointForce(std::string name, int node, std::vector<Quantity> components);
+  std::string kind() const override { return "point_force"; }
+  void force(const LocalState& s, VecX& Q) const override;
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  /// "x", "y", "z" by component index 0, 1, 2 (the node's coordinate order).
+  std::vector<std::pair<std::string, Quantity*>> properties() override;
+  int components() const { return static_cast<int>(F_.size()); }
+
+ private:
+  void checkDim(const LocalState& s) const;
+  std::vector<Quantity> F_;  ///< [N]
+};
+
+}  // namespace flexsens

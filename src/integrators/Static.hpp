@@ -1,0 +1,49 @@
+// Static equilibrium with load stepping:
+//   Q(q, 0, p) - Phi_q^T lambda = 0,   Phi(q, p) = 0
+// solved by Newton on the sparse matrix
+//   [ -dQ/dq + sum_i lambda_i Hess(Phi_i)   Phi_q^T ]
+//   [  Phi_q                                0       ]
+// assembled through the Assembler (SparseAccumulator) and factorized by KLU. The load path is
+// a function p(s) of the load factor s in (0, 1] supplied by the caller (e.g. a force component
+// bound to a design parameter, scaled by s); the solver takes `steps` equal increments of s
+// and converges Newton at each, starting from the previous equilibrium. Works with m = 0.
+//
+// Units: q [m], lambda in the units of the constraints' conjugate forces ([N] for position
+// constraints), residuals [N]; the tolerance is on the Newton update, relative to 1 + |q|_inf.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "core/Assembler.hpp"
+
+namespace flexsens {
+
+struct StaticSettings {
+  int steps = 10;           ///< equal load increments of the load factor s
+  int maxIterations = 25;   ///< Newton iterations per load step
+  double tol = 1e-10;       ///< converged when |dq|_inf <= tol (1 + |q|_inf) and likewise for lambda
+  /// Parameters at load factor s in (0, 1]; must give the solver's p at s = 1. Empty: p at every
+  /// step (no stepping, a single Newton solve).
+  std::function<VecX(double)> paramsAt;
+};
+
+struct StaticReport {
+  int steps = 0;                       ///< load steps taken
+  int iterations = 0;                  ///< Newton iterations, all steps
+  std::vector<int> iterationsPerStep;
+  double residualNorm = 0.0;           ///< |Q - Phi_q^T lambda|_inf at the returned q [N]
+  double constraintNorm = 0.0;         ///< |Phi|_inf at the returned q
+  VecX lambda;                         ///< multipliers at the returned q
+};
+
+/// Equilibrium at parameters p (the load factor 1 of s.paramsAt), starting from q0.
+/// Throws NumericalError naming the load step, iteration and residual on failure.
+VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettings& s,
+                 StaticReport* report = nullptr);
+
+/// Linear load path p(s) = pUnloaded + s (pLoaded - pUnloaded), for StaticSettings::paramsAt
+/// (only sensible when the loaded parameters enter the forces linearly, e.g. point forces).
+std::function<VecX(double)> linearLoadPath(const VecX& pUnloaded, const VecX& pLoaded);
+
+}  // namespace flexsens
