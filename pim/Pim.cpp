@@ -8,20 +8,13 @@ namespace flexsens {
 
 namespace {
 
-MatX denseRows(const Assembler& as, const VecX& q, const VecX& p) {
-  SparseAccumulator acc;
-  acc.begin(as.m(), as.n());
-  as.addPhiQ(acc, q, p, 1.0, 0, 0, false);
-  return MatX(acc.finish());
-}
-
 /// A = [Phi_q; Lambda_q; z_q] and the labels of its rows.
 MatX pimMatrix(const Assembler& as, const Assembler& lam, const PimCase& c, const VecX& q,
                const VecX& p, std::vector<std::string>* labels) {
   const Model& m = as.model();
   MatX A(m.n, m.n);
-  A.topRows(as.m()) = denseRows(as, q, p);
-  A.middleRows(as.m(), lam.m()) = denseRows(lam, q, p);
+  A.topRows(as.m()) = as.phiQDense(q, p);
+  A.middleRows(as.m(), lam.m()) = lam.phiQDense(q, p);
   for (size_t i = 0; i < c.sdofs.size(); ++i)
     A.row(as.m() + lam.m() + i) = c.sdofs[i]->gradient(m, q).transpose();
   if (labels) {

@@ -4,6 +4,7 @@
 #include <functional>
 #include <string>
 
+#include "integrators/State.hpp"
 #include "scene/Scene.hpp"
 
 namespace flexsens::test {
@@ -23,6 +24,17 @@ inline MatX fdJacobian(const std::function<VecX(const VecX&)>& f, const VecX& x,
   }
   return J;
 }
+
+/// Records the full state (and sensitivities) at every output frame.
+struct Recorder : Observer {
+  std::vector<StateWithSens> frames;
+  void frame(const StateWithSens& s) override { frames.push_back(s); }
+  const StateWithSens& at(double t) const {
+    for (const auto& f : frames)
+      if (std::abs(f.x.t - t) < 1e-9) return f;
+    throw std::runtime_error("no frame at t = " + std::to_string(t));
+  }
+};
 
 /// Relative error |a - b| / max(|b|, floor) in the max norm.
 inline double relErr(const MatX& a, const MatX& b, double floor = 1.0) {

@@ -14,16 +14,6 @@ using namespace flexsens::test;
 
 namespace {
 
-/// Records the full state at every frame.
-struct Recorder : Observer {
-  std::vector<StateWithSens> frames;
-  void frame(const StateWithSens& s) override { frames.push_back(s); }
-  const StateWithSens& at(double t) const {
-    for (const auto& f : frames)
-      if (std::abs(f.x.t - t) < 1e-9) return f;
-    throw std::runtime_error("no frame at t = " + std::to_string(t));
-  }
-};
 
 struct Run {
   Scene scene;

@@ -21,15 +21,17 @@ std::string rigidScene() { return sourceDir() + "/examples/fivebar/rigid.yaml"; 
 std::string flexScene() { return sourceDir() + "/examples/fivebar/flexible.yaml"; }
 std::string sceneOf(const std::string& c) { return c[0] == 'R' ? rigidScene() : flexScene(); }
 
-struct Recorder : Observer {
-  std::vector<StateWithSens> frames;
-  void frame(const StateWithSens& s) override { frames.push_back(s); }
-  const StateWithSens& at(double t) const {
-    for (const auto& f : frames)
-      if (std::abs(f.x.t - t) < 1e-9) return f;
-    throw std::runtime_error("no frame at t = " + std::to_string(t));
-  }
-};
+
+/// IDAS at rtol = atol = 1e-10 to tEnd, frames every 0.5 s.
+IntegratorSettings idasSettings(double tEnd) {
+  IntegratorSettings set;
+  set.type = "idas";
+  set.rtol = set.atol = 1e-10;
+  set.dt = 0.0;
+  set.tEnd = tEnd;
+  set.frameInterval = 0.5;
+  return set;
+}
 
 struct CaseRun {
   Scene sc;
@@ -211,12 +213,7 @@ void checkIdasCase(const std::string& name, const std::vector<double>& times, do
                    double rel) {
   auto r = load(name);
   const VecX p0 = r->sc.model->nominalParameters();
-  IntegratorSettings set;
-  set.type = "idas";
-  set.rtol = set.atol = 1e-10;
-  set.dt = 0.0;
-  set.tEnd = times.back();
-  set.frameInterval = 0.5;
+  const IntegratorSettings set = idasSettings(times.back());
   Recorder rec;
   integrate(*r->as, p0, initialState(*r->as, p0, r->sc.pimCase.get()), set, rec);
   const auto ref = referenceDerivative(name, times, dt, 1e-5);
@@ -260,12 +257,7 @@ TEST(Pim, IdasSensitivitiesMatchConvergedTrapezoidalSensitivities) {
     auto r = load(name);
     const VecX p0 = r->sc.model->nominalParameters();
     const StateWithSens start = initialState(*r->as, p0, r->sc.pimCase.get());
-    IntegratorSettings set;
-    set.tEnd = 2.0;
-    set.frameInterval = 0.5;
-    set.type = "idas";
-    set.rtol = set.atol = 1e-10;
-    set.dt = 0.0;
+    IntegratorSettings set = idasSettings(2.0);
     Recorder idas, trap;
     integrate(*r->as, p0, start, set, idas);
     set.type = "trapezoidal";
@@ -289,12 +281,7 @@ TEST(Pim, TrapezoidalSensitivitiesConvergeToIdasAtOrderTwo) {
   auto r = load("R1");
   const VecX p0 = r->sc.model->nominalParameters();
   const StateWithSens start = initialState(*r->as, p0, r->sc.pimCase.get());
-  IntegratorSettings set;
-  set.tEnd = 2.0;
-  set.frameInterval = 0.5;
-  set.type = "idas";
-  set.rtol = set.atol = 1e-10;
-  set.dt = 0.0;
+  IntegratorSettings set = idasSettings(2.0);
   Recorder idas;
   integrate(*r->as, p0, start, set, idas);
   std::vector<double> err;

@@ -52,11 +52,7 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
   }
   StateWithSens s;
   s.x = consistentState(as, p);
-  SparseAccumulator acc;
-  acc.begin(as.m(), as.n());
-  as.addPhiQ(acc, s.x.q, p, 1.0, 0, 0, false);
-  const MatX J = MatX(acc.finish());
-  const auto cod = J.completeOrthogonalDecomposition();
+  const auto cod = as.phiQDense(s.x.q, p).completeOrthogonalDecomposition();
   for (size_t k = 0; k < m.parameters.size(); ++k) {
     State d;
     const int kk = static_cast<int>(k);

@@ -160,6 +160,13 @@ VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const 
   return r;
 }
 
+MatX Assembler::phiQDense(const VecX& q, const VecX& p) const {
+  SparseAccumulator acc;
+  acc.begin(m(), n());
+  addPhiQ(acc, q, p, 1.0, 0, 0, false);
+  return MatX(acc.finish());
+}
+
 SpMat Assembler::mass(const VecX& p) const {
   SparseAccumulator acc;
   acc.begin(n(), n());

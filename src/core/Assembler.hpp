@@ -36,6 +36,8 @@ class Assembler {
   VecX hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const;  ///< (sum w_i H_i) x
   VecX hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const;  ///< (v^T H_i x)_i
 
+  /// Phi_q as a dense matrix (small systems: PIM, least-norm projections).
+  MatX phiQDense(const VecX& q, const VecX& p) const;
   /// Constant mass matrix M(p) (elements' masses do not depend on q).
   SpMat mass(const VecX& p) const;
   double potentialEnergy(const VecX& q, const VecX& p) const;

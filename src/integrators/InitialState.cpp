@@ -6,14 +6,6 @@
 
 namespace flexsens {
 
-namespace {
-MatX denseJacobian(const Assembler& as, const VecX& q, const VecX& p) {
-  SparseAccumulator acc;
-  acc.begin(as.m(), as.n());
-  as.addPhiQ(acc, q, p, 1.0, 0, 0, false);
-  return MatX(acc.finish());
-}
-}  // namespace
 
 VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
   if (as.m() == 0) return q;
@@ -22,7 +14,7 @@ VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
     const VecX r = as.phi(q, p);
     err = r.lpNorm<Eigen::Infinity>();
     if (err <= tol) return q;
-    const MatX J = denseJacobian(as, q, p);
+    const MatX J = as.phiQDense(q, p);
     // Least-norm step dq = -J^T (J J^T)^+ r, via complete orthogonal decomposition of J.
     q -= J.completeOrthogonalDecomposition().solve(r);
   }
@@ -35,7 +27,7 @@ VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
 
 VecX projectVelocities(const Assembler& as, const VecX& q, const VecX& v, const VecX& p) {
   if (as.m() == 0) return v;
-  const MatX J = denseJacobian(as, q, p);
+  const MatX J = as.phiQDense(q, p);
   return v - J.completeOrthogonalDecomposition().solve(J * v);
 }
 
