@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "app/FiniteDifferences.hpp"
 #include "integrators/FixedStep.hpp"
 #include "integrators/Idas.hpp"
 #include "integrators/InitialState.hpp"
@@ -27,6 +28,18 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     s.dt = *opt.dt;
     if (s.frameInterval < s.dt) s.frameInterval = s.dt;
   }
+  auto& sens = sc.sensitivity;
+  if (opt.method) sens.method = *opt.method;
+  if (opt.ndStep) sens.ndStep = *opt.ndStep;
+  if (opt.ndScheme) sens.ndScheme = *opt.ndScheme;
+  if (sens.method != "dd" && sens.method != "dq" && sens.method != "nd")
+    throw InputError("option --method: expected dd, dq or nd, got '" + sens.method + "'");
+  if (sens.method == "dq" && s.type != "idas")
+    throw InputError("option --method: dq (IDAS' internal difference quotients) needs --integrator idas");
+  if (sens.ndScheme != "central" && sens.ndScheme != "forward")
+    throw InputError("option --nd-scheme: expected forward or central, got '" + sens.ndScheme + "'");
+  if (!(sens.ndStep > 0)) throw InputError("option --nd-step: expected a positive relative step");
+  s.sensitivityMethod = sens.method == "dq" ? "dq" : "dd";
   if (s.type != "idas" && !(s.dt > 0))
     throw InputError(sc.file + ": key 'integrator.dt': the " + s.type +
                      " integrator needs a fixed step dt (give it in the scene or with --dt)");
@@ -114,6 +127,10 @@ void writeSummary(const std::string& path, const Scene& sc, const IntegratorStat
     }
     js << "}},\n";
   }
+  js << "  \"sensitivity\": {\"method\": " << jsonString(sc.sensitivity.method);
+  if (sc.sensitivity.method == "nd")
+    js << ", \"scheme\": " << jsonString(sc.sensitivity.ndScheme) << ", \"relative_step\": " << jsonNumber(sc.sensitivity.ndStep);
+  js << "},\n";
   js << "  \"integrator\": {\"type\": " << jsonString(sc.integrator.type)
      << ", \"t_end\": " << jsonNumber(sc.integrator.tEnd) << ", \"dt\": " << jsonNumber(sc.integrator.dt)
      << ", \"rtol\": " << jsonNumber(sc.integrator.rtol) << ", \"atol\": " << jsonNumber(sc.integrator.atol) << "},\n";
@@ -157,7 +174,12 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   try {
-    res.stats = integrate(as, p, start, sc.integrator, writer);
+    if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
+      NdSettings nd{sc.sensitivity.ndScheme, sc.sensitivity.ndStep};
+      res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, writer);
+    } else {
+      res.stats = integrate(as, p, start, sc.integrator, writer);
+    }
   } catch (const std::exception& e) {
     writer.close();
     writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files(), &pim);

@@ -15,6 +15,9 @@ struct RunOptions {
   std::optional<std::string> outDir;
   std::optional<std::string> integrator;
   std::optional<double> tEnd, dt;
+  std::optional<std::string> method;  ///< dd | dq | nd
+  std::optional<double> ndStep;
+  std::optional<std::string> ndScheme;
 };
 
 struct RunResult {

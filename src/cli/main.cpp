@@ -23,6 +23,11 @@ int main(int argc, char** argv) {
   run->add_option("--integrator", integrator, "idas | trapezoidal | bdf1 (default: the scene's)");
   run->add_option("--t-end", tEnd, "final time [s]");
   run->add_option("--dt", dt, "fixed step [s] (IDAS: largest step)");
+  std::string method, ndScheme;
+  double ndStep = 0;
+  run->add_option("--method", method, "sensitivities: dd (analytic, default) | dq (IDAS difference quotients) | nd (finite differences of perturbed runs)");
+  run->add_option("--nd-step", ndStep, "nd: relative parameter step (default 1e-6)");
+  run->add_option("--nd-scheme", ndScheme, "nd: central (default) | forward");
   std::vector<std::string> cases;
   run->add_option("--case", cases, "PIM case to run (repeatable; default: every case of the scene)");
 
@@ -60,6 +65,9 @@ int main(int argc, char** argv) {
     if (run->count("--t-end")) opt.tEnd = tEnd;
     if (run->count("--dt")) opt.dt = dt;
     if (!outDir.empty()) opt.outDir = outDir;
+    if (!method.empty()) opt.method = method;
+    if (run->count("--nd-step")) opt.ndStep = ndStep;
+    if (!ndScheme.empty()) opt.ndScheme = ndScheme;
     Scene base = readScene(scenePath);
     if (cases.empty()) cases = base.caseNames;
     if (cases.empty()) cases.push_back("");

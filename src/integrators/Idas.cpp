@@ -91,10 +91,19 @@ using VectorPtr = std::unique_ptr<_generic_N_Vector, VectorDeleter>;
 
 struct Problem {
   const Assembler* as;
-  const VecX* p;
+  VecX* p;  ///< IDAS perturbs it in place with the difference-quotient method (dq)
   int n, m;
   SparseAccumulator acc;
   SpMat M;
+  VecX pOfM;  ///< parameters M was computed at
+  /// The mass matrix at the current p (recomputed only when IDAS has perturbed p).
+  const SpMat& mass() {
+    if (pOfM.size() != p->size() || pOfM != *p) {
+      M = as->mass(*p);
+      pOfM = *p;
+    }
+    return M;
+  }
   std::string lastError;  ///< last message from IDAS' error handler
   std::string failure;    ///< exception text caught inside a callback
 };
@@ -118,7 +127,7 @@ int residual(double, N_Vector yy, N_Vector yp, N_Vector rr, void* ud) {
   auto& pb = *static_cast<Problem*>(ud);
   try {
     auto r = view(rr);
-    r = gglResidual(*pb.as, *pb.p, pb.M, view(yy), view(yp));
+    r = gglResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp));
     return r.allFinite() ? 0 : 1;  // recoverable: IDAS retries with a smaller step
   } catch (const std::exception& e) {
     pb.failure = e.what();
@@ -148,7 +157,7 @@ int sensResidual(int Ns, double, N_Vector yy, N_Vector yp, N_Vector, N_Vector* y
   try {
     for (int k = 0; k < Ns; ++k) {
       auto r = view(rS[k]);
-      r = gglSensitivityResidual(*pb.as, *pb.p, pb.M, view(yy), view(yp), k, view(yS[k]), view(ypS[k]));
+      r = gglSensitivityResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), k, view(yS[k]), view(ypS[k]));
     }
     return 0;
   } catch (const std::exception& e) {
@@ -191,7 +200,8 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   const int n = as.n(), m = as.m();
   const int N = 2 * (n + m);
   const int Ns = static_cast<int>(start.dp.size());
-  Problem pb{&as, &p, n, m, {}, as.mass(p), {}, {}};
+  VecX pWork = p;  // IDAS' difference quotients perturb the parameters in place
+  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, {}};
   double t = start.x.t;
 
   SUNContext rawCtx = nullptr;
@@ -242,6 +252,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   check(IDASetJacFn(ida, jacobian), "IDASetJacFn", pb, t);
 
   std::vector<N_Vector> yS, ypS;
+  VecX pbar;  // parameter scales for the difference quotients (alive while IDAS runs)
   auto freeSens = [&]() {
     for (auto v : yS) N_VDestroy(v);
     for (auto v : ypS) N_VDestroy(v);
@@ -253,7 +264,17 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       ypS.push_back(N_VNew_Serial(N, ctx.get()));
       pack(start.dp[k], n, m, yS.back(), ypS.back());
     }
-    check(IDASensInit(ida, Ns, IDA_STAGGERED, sensResidual, yS.data(), ypS.data()), "IDASensInit", pb, t);
+    if (set.sensitivityMethod == "dq") {
+      // IDAS' internal difference quotients (centered) instead of the analytic residual.
+      pbar = p.cwiseAbs();
+      for (int k = 0; k < Ns; ++k)
+        if (pbar[k] == 0.0) pbar[k] = 1.0;
+      check(IDASensInit(ida, Ns, IDA_STAGGERED, nullptr, yS.data(), ypS.data()), "IDASensInit", pb, t);
+      check(IDASetSensParams(ida, pWork.data(), pbar.data(), nullptr), "IDASetSensParams", pb, t);
+      check(IDASetSensDQMethod(ida, IDA_CENTERED, 0.0), "IDASetSensDQMethod", pb, t);
+    } else {
+      check(IDASensInit(ida, Ns, IDA_STAGGERED, sensResidual, yS.data(), ypS.data()), "IDASensInit", pb, t);
+    }
     check(IDASensEEtolerances(ida), "IDASensEEtolerances", pb, t);
     check(IDASetSensErrCon(ida, set.sensitivityErrorControl ? SUNTRUE : SUNFALSE), "IDASetSensErrCon", pb, t);
   }

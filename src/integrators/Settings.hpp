@@ -15,6 +15,10 @@ struct IntegratorSettings {
   int maxNewtonIterations = 25;
   double frameInterval = 0.01; ///< time between output frames [s]
   bool sensitivityErrorControl = true;  ///< IDAS: sensitivities in the error test
+  /// dd: analytic partial derivatives (direct differentiation); dq: IDAS' internal
+  /// difference quotients of the residual (IDAS only). External finite differences (nd)
+  /// run whole perturbed simulations and live in the app layer.
+  std::string sensitivityMethod = "dd";
 };
 
 }  // namespace flexsens

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "core/SparseLU.hpp"
@@ -79,6 +81,7 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
       if (m) lambda += dx.tail(m);
       dqNorm = infNorm(dx.head(n));
       const double dlNorm = m ? infNorm(dx.tail(m)) : 0.0;
+      if (std::getenv("STATIC_DEBUG")) std::fprintf(stderr, "step %d it %d |r| %.3e |dq| %.3e |dl| %.3e |l| %.3e\n", k, it, infNorm(r), dqNorm, dlNorm, infNorm(lambda));
       if (dqNorm <= s.tol * (1.0 + infNorm(q)) && dlNorm <= s.tol * (1.0 + infNorm(lambda))) {
         converged = true;
         break;

@@ -18,6 +18,13 @@ struct OutputSpec {
   int component = 0;
 };
 
+/// How sensitivities are computed (the speed-versus-accuracy choice).
+struct SensitivitySettings {
+  std::string method = "dd";       ///< dd | dq | nd
+  std::string ndScheme = "central";
+  double ndStep = 1e-6;            ///< relative step of nd
+};
+
 struct OutputSettings {
   std::string directory;  ///< default: results/<scene file stem>
   bool vtk = true;
@@ -28,6 +35,7 @@ struct Scene {
   std::string file;  ///< path as given
   std::unique_ptr<Model> model;
   IntegratorSettings integrator;
+  SensitivitySettings sensitivity;
   std::vector<OutputSpec> outputs;
   OutputSettings output;
   std::vector<std::string> caseNames;  ///< all PIM cases the scene defines, in order
