@@ -2,8 +2,6 @@
 
 #include <cmath>
 #include <sstream>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "core/SparseLU.hpp"
@@ -74,14 +72,22 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
       what << "static Newton matrix [-dQ/dq + H(lambda), Phi_q^T; Phi_q, 0] at load step " << k
            << "/" << steps << " (load factor " << lf << "), iteration " << it
            << " (an unrestrained rigid motion, a buckling point, or redundant constraints)";
-      lu.factor(acc.finish(), what.str());
+      try {
+        lu.factor(acc.finish(), what.str());
+      } catch (const NumericalError& e) {
+        std::ostringstream os;
+        os << "static equilibrium: " << e.what() << "; residual |Q - Phi_q^T lambda|_inf = "
+           << infNorm(r.head(n)) << " N";
+        if (m) os << ", |Phi|_inf = " << infNorm(r.tail(m));
+        os << "; if a load step overshoots, try more load steps (e.g. " << 2 * steps << ")";
+        throw NumericalError(os.str());
+      }
       const VecX dx = lu.solve(VecX(-r));
       if (!dx.allFinite()) break;
       q += dx.head(n);
       if (m) lambda += dx.tail(m);
       dqNorm = infNorm(dx.head(n));
       const double dlNorm = m ? infNorm(dx.tail(m)) : 0.0;
-      if (std::getenv("STATIC_DEBUG")) std::fprintf(stderr, "step %d it %d |r| %.3e |dq| %.3e |dl| %.3e |l| %.3e\n", k, it, infNorm(r), dqNorm, dlNorm, infNorm(lambda));
       if (dqNorm <= s.tol * (1.0 + infNorm(q)) && dlNorm <= s.tol * (1.0 + infNorm(lambda))) {
         converged = true;
         break;
