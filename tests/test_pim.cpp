@@ -210,7 +210,7 @@ std::vector<double> referenceDerivative(const std::string& name, const std::vect
 }
 
 void checkIdasCase(const std::string& name, const std::vector<double>& times, double dt,
-                   double rel) {
+                   double rel, double abs = 1e-7) {
   auto r = load(name);
   const VecX p0 = r->sc.model->nominalParameters();
   const IntegratorSettings set = idasSettings(times.back());
@@ -221,7 +221,7 @@ void checkIdasCase(const std::string& name, const std::vector<double>& times, do
     const double dd = rec.at(times[i]).dp[0].q[z2dof(*r->sc.model)];
     std::printf("  %-4s t = %.2f s: dz2/dp = %+.9e (IDAS rtol 1e-10)  %+.9e (central FD)  rel. diff %.1e\n",
                 name.c_str(), times[i], dd, ref[i], std::abs(dd - ref[i]) / std::abs(ref[i]));
-    EXPECT_LE(std::abs(dd - ref[i]), std::max(rel * std::abs(ref[i]), 1e-7)) << name << " t = " << times[i];
+    EXPECT_LE(std::abs(dd - ref[i]), std::max(rel * std::abs(ref[i]), abs)) << name << " t = " << times[i];
   }
 }
 
@@ -241,12 +241,16 @@ TEST(Pim, IdasSensitivitiesMatchFiniteDifferencesRigidCases) {
   }
 }
 
-// Flexible cases: the finite-difference reference uses the trapezoidal rule at dt = 1e-4 s,
-// which barely resolves the beam's axial vibration (period ~1.5 ms); measured agreement
-// 4e-6 ... 2.4e-5 for F1 and F4 (all six cases: 1e-6 ... 5e-5, F2 at t = 2 s 2.5e-3 of a
-// near-zero value). IDAS at rtol 1e-10 takes ~13 s per case here, so two cases run.
+// Flexible cases, all six to 2 s. The references carry noise of their own: the trapezoidal
+// rule does not damp the beam's axial vibration (period ~1.5 ms), which round-off keeps
+// excited, so even its discrete sensitivities scatter by ~1e-4 relative as dt shrinks (F5 at
+// t = 2 s: dt = 1e-4, 5e-5, 2.5e-5, 1.25e-5 give 0.133659, 0.133662, 0.133663, 0.133650),
+// while IDAS converges in rtol (1e-9, 1e-10, 1e-11 give 0.13363737, 0.13363742, 0.13363742).
+// Measured agreement with the dt = 1e-4 references: 1e-6 ... 5e-5 relative, and 1.8e-5
+// absolute on F2's near-zero value at 2 s. Bound: 1e-4 relative or 2e-5 absolute.
 TEST(Pim, IdasSensitivitiesMatchFiniteDifferencesFlexibleCases) {
-  for (const char* name : {"F1", "F4"}) checkIdasCase(name, {0.5, 1.0, 2.0}, 1e-4, 1e-4);
+  for (const char* name : {"F1", "F2", "F3", "F4", "F5", "F6"})
+    checkIdasCase(name, {0.5, 1.0, 2.0}, 1e-4, 1e-4, 2e-5);
 }
 
 // Converged reference: the trapezoidal rule's exact discrete sensitivities at dt = 5e-5 s
