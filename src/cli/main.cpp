@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/Run.hpp"
+#include "app/Study.hpp"
 #include "core/Types.hpp"
 
 using namespace flexsens;
@@ -35,12 +36,22 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a scene and print its sizes");
   check->add_option("scene", checkPath, "scene file (YAML)")->required();
 
+  StudyOptions study;
+  auto* studyCmd = app.add_subcommand("study", "speed-versus-accuracy study of the sensitivity methods and integrators (markdown report + CSV)");
+  studyCmd->add_option("--out", study.outDir, "report directory (default bench/study)");
+  studyCmd->add_option("--source", study.sourceDir, "repository root holding examples/ (default .)");
+  studyCmd->add_flag("--quick", study.quick, "shortened sweeps (smoke test)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 1;  // --help is success; any bad option is input error 1
   }
   try {
+    if (*studyCmd) {
+      std::cout << "study report written to " << runStudy(study) << "\n";
+      return 0;
+    }
     if (*check) {
       Scene sc = readScene(checkPath);
       const Model& m = *sc.model;
