@@ -1,12 +1,42 @@
 #include "constraints/Distance.hpp"
 
+#include "elements/AutoDiff.hpp"
+
 namespace flexsens {
 
-void DistanceConstraint::phi(const LocalState& s, VecX& out) const {
+// ------------------------------------------------------------------------------ distance
+// Value template: props = (L).
+template <class T>
+VecT<T> DistanceConstraint::phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const {
   const int d = s.dim;
-  const double L = s.value(length_);
-  out.resize(1);
-  out[0] = (s.x.tail(d) - s.x.head(d)).squaredNorm() - L * L;
+  const T& L = props[0];
+  const VecT<T> dx = x.tail(d) - x.head(d);
+  VecT<T> out(1);
+  out[0] = dx.squaredNorm() - L * L;
+  return out;
+}
+
+void DistanceConstraint::phi(const LocalState& s, VecX& out) const {
+  out = phiT<double>(s, s.x, ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void DistanceConstraint::jacobianAD(const LocalState& s, MatX& J) const {
+  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s,
+                             ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void DistanceConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
+  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s,
+                            ad::propertyValues(kernelProperties(), *s.p), r);
+}
+
+bool DistanceConstraint::parameterDerivativeAD(const LocalState& s, int k, VecX& dphi,
+                                               MatX& dJ) const {
+  const VecX dir = ad::propertyDirection(kernelProperties(), k);
+  if (dir.isZero()) return false;
+  ad::constraintParameterDerivative([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s,
+                                    ad::propertyValues(kernelProperties(), *s.p), dir, dphi, dJ);
+  return true;
 }
 
 void DistanceConstraint::jacobian(const LocalState& s, MatX& J) const {
@@ -31,6 +61,26 @@ bool DistanceConstraint::parameterDerivative(const LocalState& s, int k, VecX& d
   dphi[0] = -2.0 * s.value(length_);
   dJ.resize(0, 0);  // Phi_q does not depend on L
   return true;
+}
+
+// ---------------------------------------------------------------------------- fixed node
+template <class T>
+VecT<T> FixedNodeConstraint::phiT(const LocalState&, const VecT<T>& x, const VecT<T>&) const {
+  VecT<T> out(x.size());
+  for (int i = 0; i < x.size(); ++i) out[i] = x[i] - position_[i];
+  return out;
+}
+
+void FixedNodeConstraint::phi(const LocalState& s, VecX& out) const {
+  out = phiT<double>(s, s.x, VecX());
+}
+
+void FixedNodeConstraint::jacobianAD(const LocalState& s, MatX& J) const {
+  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s, VecX());
+}
+
+void FixedNodeConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
+  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s, VecX(), r);
 }
 
 }  // namespace flexsens

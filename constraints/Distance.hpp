@@ -16,11 +16,18 @@ class DistanceConstraint : public Constraint {
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
+  void jacobianAD(const LocalState& s, MatX& J) const override;
+  void hessianAD(const LocalState& s, int r, MatX& H) const override;
+  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"length", &length_}};
   }
 
  private:
+  /// Properties the kernel reads, in the order of its props vector: (L).
+  std::vector<const Quantity*> kernelProperties() const { return {&length_}; }
+  template <class T>
+  VecT<T> phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const;
   Quantity length_;  ///< [m]
 };
 
@@ -31,7 +38,7 @@ class FixedNodeConstraint : public Constraint {
       : Constraint(std::move(name), {node}), position_(std::move(position)) {}
   std::string kind() const override { return "fixed"; }
   int rows() const override { return static_cast<int>(position_.size()); }
-  void phi(const LocalState& s, VecX& out) const override { out = s.x - position_; }
+  void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override {
     J = MatX::Identity(s.x.size(), s.x.size());
   }
@@ -39,9 +46,16 @@ class FixedNodeConstraint : public Constraint {
     H.setZero(s.x.size(), s.x.size());
   }
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
+  void jacobianAD(const LocalState& s, MatX& J) const override;
+  void hessianAD(const LocalState& s, int r, MatX& H) const override;
+  /// No properties: never depends on a parameter (the fixed position is a constant).
+  bool parameterDerivativeAD(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 
  private:
+  /// Value template (no properties: props is empty).
+  template <class T>
+  VecT<T> phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const;
   VecX position_;  ///< [m]
 };
 

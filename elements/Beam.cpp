@@ -2,19 +2,13 @@
 
 #include <cmath>
 
+#include "elements/AutoDiff.hpp"
+
 namespace flexsens {
 
 // ---------------------------------------------------------------- BeamSection
-double BeamSection::A(const VecX& p) const {
-  if (!square) return area.value(p);
-  const double a = side.value(p);
-  return a * a;
-}
-double BeamSection::I(const VecX& p) const {
-  if (!square) return inertia.value(p);
-  const double a = side.value(p);
-  return a * a * a * a / 12.0;
-}
+double BeamSection::A(const VecX& p) const { return areaOf(areaSource().value(p)); }
+double BeamSection::I(const VecX& p) const { return inertiaOf(inertiaSource().value(p)); }
 double BeamSection::dA(const VecX& p, int k) const {
   if (!square) return area.boundTo(k) ? 1.0 : 0.0;
   return side.boundTo(k) ? 2.0 * side.value(p) : 0.0;  // d(a^2)/da
@@ -71,26 +65,64 @@ double segmentAxis(const Element& e, const LocalState& s, VecX& n) {
 }
 }  // namespace
 
-bool BeamSegment::mass(const LocalState& s, MatX& M) const {
-  const int d = s.dim;
-  const double m6 = sec_->rhoA(*s.p) * L_ / 6.0;  // [kg]
-  M.setZero(2 * d, 2 * d);
+// Value templates: props = (E, density, A source).
+template <class T>
+MatT<T> BeamSegment::massT(int d, const VecT<T>& props) const {
+  const T rhoA = props[1] * sec_->areaOf(props[2]);  // [kg/m]
+  const T m6 = rhoA * L_ / 6.0;                      // [kg]
+  MatT<T> M = MatT<T>::Zero(2 * d, 2 * d);
   for (int i = 0; i < d; ++i) {
     M(i, i) = M(d + i, d + i) = 2.0 * m6;
     M(i, d + i) = M(d + i, i) = m6;
   }
+  return M;
+}
+
+template <class T>
+VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
+                            const VecT<T>& props) const {
+  using std::sqrt;
+  if (s.dim != 2 && s.dim != 3) throw std::invalid_argument("beam_segment " + name() + ": dim must be 2 or 3");
+  const int d = s.dim;
+  VecT<T> n = x.segment(d, d) - x.segment(0, d);
+  const T l = sqrt(n.squaredNorm());
+  if (!(ad::valueOf(l) > 0.0)) throw NumericalError("beam_segment " + name() + ": zero current length");
+  n /= l;                                             // unit axis
+  const T A = sec_->areaOf(props[2]);
+  const T EA = props[0] * A, rhoA = props[1] * A;
+  const T N = EA * (l - L_) / L_;                     // axial force dU/dl [N]
+  const T w = 0.5 * rhoA * L_;                        // nodal mass [kg]
+  const VecX g = gravityOf(s);
+  VecT<T> Q(2 * d);
+  for (int i = 0; i < d; ++i) {
+    Q[i] = N * n[i] + w * g[i];
+    Q[d + i] = -N * n[i] + w * g[i];
+  }
+  return Q;
+}
+
+bool BeamSegment::mass(const LocalState& s, MatX& M) const {
+  M = massT<double>(s.dim, ad::propertyValues(kernelProperties(), *s.p));
   return true;
 }
 
 void BeamSegment::force(const LocalState& s, VecX& Q) const {
-  VecX n;
-  const double l = segmentAxis(*this, s, n);
-  const int d = s.dim;
-  const double N = sec_->EA(*s.p) * (l - L_) / L_;         // axial force dU/dl [N]
-  const VecX G = 0.5 * sec_->rhoA(*s.p) * L_ * gravityOf(s);  // nodal weight [N]
-  Q.resize(2 * d);
-  Q.head(d) = N * n + G;
-  Q.tail(d) = -N * n + G;
+  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void BeamSegment::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
+                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
+}
+
+bool BeamSegment::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  const VecX dir = ad::propertyDirection(kernelProperties(), k);
+  if (dir.isZero()) return false;
+  const VecX props = ad::propertyValues(kernelProperties(), *s.p);
+  dQ = ad::forceParameterDerivative(
+      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s, props, dir);
+  dM = ad::massParameterDerivative([&](const auto& pr) { return massT(s.dim, pr); }, props, dir);
+  return true;
 }
 
 void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -188,10 +220,46 @@ double BeamHinge::deviation(const LocalState& s, VecX* g, MatX* H) const {
   return dphi;
 }
 
+// Value template: props = (E, I source). Q = -k_b (phi - phi0) dphi/dx, k_b = EI / D.
+template <class T>
+VecT<T> BeamHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
+                          const VecT<T>& props) const {
+  using std::atan2;
+  if (s.dim != 2) throw std::invalid_argument("beam_hinge " + name() + ": planar only (dim must be 2)");
+  // e1 = x_b - x_a, e2 = x_c - x_b; phi = atan2(e1 x e2, e1 . e2)
+  const T e1x = x[2] - x[0], e1y = x[3] - x[1], e2x = x[4] - x[2], e2y = x[5] - x[3];
+  const T cross = e1x * e2y - e1y * e2x, dot = e1x * e2x + e1y * e2y;
+  const T phi = atan2(cross, dot);
+  const T dphi = ad::wrapAngle(T(phi - phi0_));
+  // dphi/de1 = -J e1 / |e1|^2, dphi/de2 = J e2 / |e2|^2, J = rot(+90 deg)
+  const T r1 = e1x * e1x + e1y * e1y, r2 = e2x * e2x + e2y * e2y;
+  if (!(ad::valueOf(r1) > 0.0 && ad::valueOf(r2) > 0.0))
+    throw NumericalError("beam_hinge " + name() + ": zero edge length");
+  const T g1x = e1y / r1, g1y = -e1x / r1, g2x = -e2y / r2, g2y = e2x / r2;  // [1/m]
+  const T EI = props[0] * sec_->inertiaOf(props[1]);
+  const T c = -(EI / D_) * dphi;  // -dU/dphi [N m]
+  VecT<T> Q(6);
+  Q << c * -g1x, c * -g1y, c * T(g1x - g2x), c * T(g1y - g2y), c * g2x, c * g2y;  // [N]
+  return Q;
+}
+
 void BeamHinge::force(const LocalState& s, VecX& Q) const {
-  VecX g;
-  const double dphi = deviation(s, &g, nullptr);
-  Q = -(sec_->EI(*s.p) / D_) * dphi * g;  // [N]
+  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void BeamHinge::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
+                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
+}
+
+bool BeamHinge::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  const VecX dir = ad::propertyDirection(kernelProperties(), k);
+  if (dir.isZero()) return false;
+  dQ = ad::forceParameterDerivative(
+      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
+      ad::propertyValues(kernelProperties(), *s.p), dir);
+  dM.resize(0, 0);  // massless
+  return true;
 }
 
 void BeamHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {

@@ -31,6 +31,18 @@ struct BeamSection {
 
   double A(const VecX& p) const;
   double I(const VecX& p) const;
+  /// The quantity A (square form: side) and the one I (square form: side) are computed from.
+  const Quantity& areaSource() const { return square ? side : area; }
+  const Quantity& inertiaSource() const { return square ? side : inertia; }
+  /// A and I from their source quantity's value, for any scalar type (value templates).
+  template <class T> T areaOf(const T& v) const {
+    if (square) return T(v * v);
+    return v;
+  }
+  template <class T> T inertiaOf(const T& v) const {
+    if (square) return T(v * v * v * v / 12.0);
+    return v;
+  }
   double EA(const VecX& p) const { return E.value(p) * A(p); }
   double EI(const VecX& p) const { return E.value(p) * I(p); }
   double rhoA(const VecX& p) const { return density.value(p) * A(p); }
@@ -61,11 +73,21 @@ class BeamSegment : public Element {
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
   double restLength() const { return L_; }
 
  private:
+  /// Properties the kernels read, in the order of their props vector: (E, density, A source).
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&sec_->E, &sec_->density, &sec_->areaSource()};
+  }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  template <class T>
+  MatT<T> massT(int dim, const VecT<T>& props) const;
   std::shared_ptr<BeamSection> sec_;
   double L_;
 };
@@ -83,6 +105,8 @@ class BeamHinge : public Element {
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
   double restAngle() const { return phi0_; }
@@ -93,6 +117,10 @@ class BeamHinge : public Element {
  private:
   /// (phi - phi0) wrapped to (-pi, pi], and optionally dphi/dx (6) and d2phi/dx2 (6x6).
   double deviation(const LocalState& s, VecX* g, MatX* H) const;
+  /// Properties the kernel reads, in the order of its props vector: (E, I source).
+  std::vector<const Quantity*> kernelProperties() const { return {&sec_->E, &sec_->inertiaSource()}; }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
   std::shared_ptr<BeamSection> sec_;
   double phi0_, D_;
 };

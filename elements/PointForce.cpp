@@ -3,6 +3,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "elements/AutoDiff.hpp"
+
 namespace flexsens {
 
 PointForce::PointForce(std::string name, int node, std::vector<Quantity> components)
@@ -24,10 +26,41 @@ void PointForce::checkDim(const LocalState& s) const {
   }
 }
 
-void PointForce::force(const LocalState& s, VecX& Q) const {
+std::vector<const Quantity*> PointForce::kernelProperties() const {
+  std::vector<const Quantity*> r;
+  for (const auto& f : F_) r.push_back(&f);
+  return r;
+}
+
+// Value template: props = the components (F_x, F_y(, F_z)).
+template <class T>
+VecT<T> PointForce::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
+                           const VecT<T>& props) const {
   checkDim(s);
-  Q.resize(s.dim);
-  for (int c = 0; c < s.dim; ++c) Q[c] = s.value(F_[c]);
+  VecT<T> Q(s.dim);
+  for (int c = 0; c < s.dim; ++c) Q[c] = props[c];
+  return Q;
+}
+
+void PointForce::force(const LocalState& s, VecX& Q) const {
+  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void PointForce::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  checkDim(s);
+  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
+                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
+}
+
+bool PointForce::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  checkDim(s);
+  const VecX dir = ad::propertyDirection(kernelProperties(), k);
+  if (dir.isZero()) return false;
+  dQ = ad::forceParameterDerivative(
+      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
+      ad::propertyValues(kernelProperties(), *s.p), dir);
+  dM.resize(0, 0);  // massless
+  return true;
 }
 
 void PointForce::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {

@@ -21,6 +21,8 @@ class PointForce : public Element {
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   /// "x", "y", "z" by component index 0, 1, 2 (the node's coordinate order).
   std::vector<std::pair<std::string, Quantity*>> properties() override;
@@ -28,6 +30,10 @@ class PointForce : public Element {
 
  private:
   void checkDim(const LocalState& s) const;
+  /// Properties the kernel reads, in the order of its props vector: the components.
+  std::vector<const Quantity*> kernelProperties() const;
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
   std::vector<Quantity> F_;  ///< [N]
 };
 

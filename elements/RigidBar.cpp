@@ -3,26 +3,56 @@
 #include <cmath>
 #include <sstream>
 
+#include "elements/AutoDiff.hpp"
+
 namespace flexsens {
 
 // ------------------------------------------------------------------------------ rigid bar
-bool RigidBar::mass(const LocalState& s, MatX& M) const {
-  const int d = s.dim;
-  const double m = s.value(mass_);
-  M.setZero(2 * d, 2 * d);
+// Value templates: props = (m).
+template <class T>
+MatT<T> RigidBar::massT(int d, const VecT<T>& props) const {
+  const T& m = props[0];
+  MatT<T> M = MatT<T>::Zero(2 * d, 2 * d);
   for (int i = 0; i < d; ++i) {
     M(i, i) = M(d + i, d + i) = m / 3.0;
     M(i, d + i) = M(d + i, i) = m / 6.0;
   }
+  return M;
+}
+
+template <class T>
+VecT<T> RigidBar::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
+                         const VecT<T>& props) const {
+  const int d = s.dim;
+  const T& m = props[0];
+  const VecX& g = *s.gravity;
+  VecT<T> Q(2 * d);
+  for (int i = 0; i < d; ++i) Q[i] = Q[d + i] = 0.5 * m * g[i];
+  return Q;
+}
+
+bool RigidBar::mass(const LocalState& s, MatX& M) const {
+  M = massT<double>(s.dim, ad::propertyValues(kernelProperties(), *s.p));
   return true;
 }
 
 void RigidBar::force(const LocalState& s, VecX& Q) const {
-  const int d = s.dim;
-  const double m = s.value(mass_);
-  Q.resize(2 * d);
-  Q.head(d) = 0.5 * m * (*s.gravity);
-  Q.tail(d) = 0.5 * m * (*s.gravity);
+  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void RigidBar::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
+                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
+}
+
+bool RigidBar::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  const VecX dir = ad::propertyDirection(kernelProperties(), k);
+  if (dir.isZero()) return false;
+  const VecX props = ad::propertyValues(kernelProperties(), *s.p);
+  dQ = ad::forceParameterDerivative(
+      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s, props, dir);
+  dM = ad::massParameterDerivative([&](const auto& pr) { return massT(s.dim, pr); }, props, dir);
+  return true;
 }
 
 void RigidBar::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -61,25 +91,56 @@ SpringDamper::Geometry SpringDamper::geometry(const LocalState& s) const {
   Geometry g;
   const VecX dx = s.x.tail(d) - s.x.head(d);
   g.l = dx.norm();
-  if (!(g.l > 1e-12)) {
-    std::ostringstream os;
-    os << "spring-damper '" << name() << "': its two nodes coincide (length " << g.l
-       << " m), so its direction is undefined; check the node positions";
-    throw NumericalError(os.str());
-  }
+  if (!(g.l > 1e-12)) coincidentNodes(g.l);
   g.u = dx / g.l;
   g.w = s.v.tail(d) - s.v.head(d);
   g.ldot = g.u.dot(g.w);
   return g;
 }
 
-void SpringDamper::force(const LocalState& s, VecX& Q) const {
+void SpringDamper::coincidentNodes(double l) const {
+  std::ostringstream os;
+  os << "spring-damper '" << name() << "': its two nodes coincide (length " << l
+     << " m), so its direction is undefined; check the node positions";
+  throw NumericalError(os.str());
+}
+
+// Value template: props = (k, c, L0).
+template <class T>
+VecT<T> SpringDamper::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v,
+                             const VecT<T>& props) const {
+  using std::sqrt;
   const int d = s.dim;
-  const Geometry g = geometry(s);
-  const double f = s.value(k_) * (g.l - s.value(L0_)) + s.value(c_) * g.ldot;  // tension [N]
-  Q.resize(2 * d);
-  Q.head(d) = f * g.u;
-  Q.tail(d) = -f * g.u;
+  const VecT<T> dx = x.tail(d) - x.head(d);
+  const T l = sqrt(dx.squaredNorm());  // current length [m]
+  if (!(ad::valueOf(l) > 1e-12)) coincidentNodes(ad::valueOf(l));
+  const VecT<T> u = dx / l;
+  const VecT<T> w = v.tail(d) - v.head(d);
+  const T ldot = u.dot(w);                                       // elongation rate [m/s]
+  const T f = props[0] * (l - props[2]) + props[1] * ldot;      // tension [N]
+  VecT<T> Q(2 * d);
+  Q.head(d) = f * u;
+  Q.tail(d) = -f * u;
+  return Q;
+}
+
+void SpringDamper::force(const LocalState& s, VecX& Q) const {
+  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
+}
+
+void SpringDamper::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
+                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
+}
+
+bool SpringDamper::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  const VecX dir = ad::propertyDirection(kernelProperties(), k);
+  if (dir.isZero()) return false;
+  dQ = ad::forceParameterDerivative(
+      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
+      ad::propertyValues(kernelProperties(), *s.p), dir);
+  dM.resize(0, 0);  // massless
+  return true;
 }
 
 void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {

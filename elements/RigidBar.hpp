@@ -16,12 +16,20 @@ class RigidBar : public Element {
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"mass", &mass_}};
   }
 
  private:
+  /// Properties the kernels read, in the order of their props vector: (mass).
+  std::vector<const Quantity*> kernelProperties() const { return {&mass_}; }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  template <class T>
+  MatT<T> massT(int dim, const VecT<T>& props) const;
   Quantity mass_;  ///< [kg]
 };
 
@@ -34,6 +42,8 @@ class SpringDamper : public Element {
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"stiffness", &k_}, {"damping", &c_}, {"natural_length", &L0_}};
@@ -42,6 +52,11 @@ class SpringDamper : public Element {
  private:
   struct Geometry;
   Geometry geometry(const LocalState& s) const;
+  [[noreturn]] void coincidentNodes(double l) const;
+  /// Properties the kernels read, in the order of their props vector: (k, c, L0).
+  std::vector<const Quantity*> kernelProperties() const { return {&k_, &c_, &L0_}; }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
   Quantity k_;   ///< [N/m]
   Quantity c_;   ///< [N s/m]
   Quantity L0_;  ///< natural length [m]

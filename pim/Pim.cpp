@@ -43,7 +43,7 @@ void checkCount(const Assembler& as, const Assembler& lam, const PimCase& c) {
 StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State& s,
                               const VecX& p, PimReport& rep) {
   const Model& m = as.model();
-  const Assembler lam(m, &c.lambda);
+  const Assembler lam(m, &c.lambda, as.derivatives());
   checkCount(as, lam, c);
   rep.n = m.n;
   rep.m = as.m();
@@ -115,7 +115,7 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
 VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q0,
                             const VecX& p0, const VecX& p, int k) {
   const Model& m = as.model();
-  const Assembler lam(m, &c.lambda);
+  const Assembler lam(m, &c.lambda, as.derivatives());
   checkCount(as, lam, c);
   VecX target(c.sdofs.size());
   for (size_t i = 0; i < c.sdofs.size(); ++i)

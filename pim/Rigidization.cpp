@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "constraints/Distance.hpp"
+#include "elements/AutoDiff.hpp"
 
 namespace flexsens {
 
@@ -17,7 +18,27 @@ AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<i
   J_.block(0, dim * (k + 1), dim, dim) = I;                   // the attached point
 }
 
-void AttachedPointConstraint::phi(const LocalState& s, VecX& out) const { out = J_ * s.x; }
+// Value template: Lambda_i = J_ x (linear; J_ holds the coefficients, see the constructor).
+template <class T>
+VecT<T> AttachedPointConstraint::phiT(const VecT<T>& x, const VecT<T>&) const {
+  VecT<T> out(J_.rows());
+  for (int r = 0; r < J_.rows(); ++r) {
+    T sum = J_(r, 0) * x[0];
+    for (int j = 1; j < J_.cols(); ++j) sum += J_(r, j) * x[j];
+    out[r] = sum;
+  }
+  return out;
+}
+
+void AttachedPointConstraint::phi(const LocalState& s, VecX& out) const {
+  out = phiT<double>(s.x, VecX());
+}
+void AttachedPointConstraint::jacobianAD(const LocalState& s, MatX& J) const {
+  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX());
+}
+void AttachedPointConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
+  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX(), r);
+}
 void AttachedPointConstraint::jacobian(const LocalState&, MatX& J) const { J = J_; }
 void AttachedPointConstraint::hessian(const LocalState&, int, MatX& H) const {
   H.setZero(J_.cols(), J_.cols());

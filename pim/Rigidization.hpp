@@ -24,9 +24,16 @@ class AttachedPointConstraint : public Constraint {
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
+  void jacobianAD(const LocalState& s, MatX& J) const override;
+  void hessianAD(const LocalState& s, int r, MatX& H) const override;
+  /// No properties: never depends on a parameter (the coefficients are constants).
+  bool parameterDerivativeAD(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 
  private:
+  /// Value template (no properties: props is empty).
+  template <class T>
+  VecT<T> phiT(const VecT<T>& x, const VecT<T>& props) const;
   VecX c_;
   int dim_;
   MatX J_;  ///< constant Jacobian, dim x dim*(k+2)

@@ -32,8 +32,8 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
   if (opt.method) sens.method = *opt.method;
   if (opt.ndStep) sens.ndStep = *opt.ndStep;
   if (opt.ndScheme) sens.ndScheme = *opt.ndScheme;
-  if (sens.method != "dd" && sens.method != "dq" && sens.method != "nd")
-    throw InputError("option --method: expected dd, dq or nd, got '" + sens.method + "'");
+  if (sens.method != "dd" && sens.method != "ad" && sens.method != "dq" && sens.method != "nd")
+    throw InputError("option --method: expected dd, ad, dq or nd, got '" + sens.method + "'");
   if (sens.method == "dq" && s.type != "idas")
     throw InputError("option --method: dq (IDAS' internal difference quotients) needs --integrator idas");
   if (sens.ndScheme != "central" && sens.ndScheme != "forward")
@@ -159,7 +159,8 @@ void writeSummary(const std::string& path, const Scene& sc, const IntegratorStat
 RunResult runScene(const Scene& sc, const std::string& outDir) {
   const auto t0 = std::chrono::steady_clock::now();
   const Model& m = *sc.model;
-  Assembler as(m);
+  // ad: the same tangent linear model with partials from forward-mode AD of the kernels.
+  Assembler as(m, sc.sensitivity.method == "ad" ? Derivatives::AutomaticDifferentiation : Derivatives::Analytic);
   const VecX p = m.nominalParameters();
   PimReport pim;
   const StateWithSens start = initialState(as, p, sc.pimCase.get(), &pim);  // before any file is written

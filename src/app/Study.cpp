@@ -116,7 +116,7 @@ Result runCase(const std::string& text, const std::string& name, const Config& c
       }
       set.sensitivityMethod = c.method == "dq" ? "dq" : "dd";
       const auto t0 = std::clock();
-      Assembler as(*sc.model);
+      Assembler as(*sc.model, c.method == "ad" ? Derivatives::AutomaticDifferentiation : Derivatives::Analytic);
       const VecX p = sc.model->nominalParameters();
       StateWithSens start = initialState(as, p, sc.pimCase.get());
       if (c.method == "none") start.dp.clear();
@@ -183,7 +183,7 @@ std::string runStudy(const StudyOptions& opt) {
     const double dyn = runCase(scene(1), cs, base, reps).seconds;
     md << "### " << model << " five-bar (" << cs << "), dynamics alone " << fmt(dyn * 1e3, 4) << " ms\n\n"
        << "| method | params | total [ms] | sensitivities [ms] | total / dynamics |\n|---|---|---|---|---|\n";
-    for (const std::string method : {"dd", "nd", "nd-forward"}) {
+    for (const std::string method : {"dd", "ad", "nd", "nd-forward"}) {
       for (int k = 1; k <= 4; ++k) {
         Config c;
         c.method = method;
@@ -206,6 +206,7 @@ std::string runStudy(const StudyOptions& opt) {
   struct Method { std::string label; Config c; };
   const std::vector<Method> methods = {
       {"trapezoidal dd dt=1e-3", {"trapezoidal", 1e-3, "dd"}},
+      {"trapezoidal ad dt=1e-3", {"trapezoidal", 1e-3, "ad"}},
       {"trapezoidal nd dt=1e-3 h=1e-6", {"trapezoidal", 1e-3, "nd", 1e-6}},
       {"bdf1 dd dt=1e-3", {"bdf1", 1e-3, "dd"}},
       {"idas dd rtol=1e-6", {"idas", 1e-6, "dd"}},

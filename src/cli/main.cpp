@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   run->add_option("--dt", dt, "fixed step [s] (IDAS: largest step)");
   std::string method, ndScheme;
   double ndStep = 0;
-  run->add_option("--method", method, "sensitivities: dd (analytic, default) | dq (IDAS difference quotients) | nd (finite differences of perturbed runs)");
+  run->add_option("--method", method, "sensitivities: dd (analytic, default) | ad (forward-mode automatic differentiation) | dq (IDAS difference quotients) | nd (finite differences of perturbed runs)");
   run->add_option("--nd-step", ndStep, "nd: relative parameter step (default 1e-6)");
   run->add_option("--nd-scheme", ndScheme, "nd: central (default) | forward");
   std::vector<std::string> cases;

@@ -10,8 +10,8 @@ std::vector<int> iota(int start, int count) {
 }
 }  // namespace
 
-Assembler::Assembler(const Model& model, const ConstraintList* constraints)
-    : model_(model), cons_(constraints ? *constraints : model.constraints) {
+Assembler::Assembler(const Model& model, const ConstraintList* constraints, Derivatives derivatives)
+    : model_(model), cons_(constraints ? *constraints : model.constraints), derivatives_(derivatives) {
   for (int g : model_.gravityParam) gravityBound_ = gravityBound_ || g >= 0;
   for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes()));
   for (const auto& c : cons_) {
@@ -62,6 +62,42 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
   return s;
 }
 
+// ------------------------------------------------------------------ local derivative kernels
+void Assembler::elementForceJacobian(const Element& el, const LocalState& s, MatX& dQdq,
+                                     MatX& dQdv) const {
+  if (derivatives_ == Derivatives::AutomaticDifferentiation)
+    el.forceJacobianAD(s, dQdq, dQdv);
+  else
+    el.forceJacobian(s, dQdq, dQdv);
+}
+
+bool Assembler::elementParameterDerivative(const Element& el, const LocalState& s, int k, VecX& dQ,
+                                           MatX& dM) const {
+  return derivatives_ == Derivatives::AutomaticDifferentiation ? el.parameterDerivativeAD(s, k, dQ, dM)
+                                                               : el.parameterDerivative(s, k, dQ, dM);
+}
+
+void Assembler::constraintJacobian(const Constraint& co, const LocalState& s, MatX& J) const {
+  if (derivatives_ == Derivatives::AutomaticDifferentiation)
+    co.jacobianAD(s, J);
+  else
+    co.jacobian(s, J);
+}
+
+void Assembler::constraintHessian(const Constraint& co, const LocalState& s, int r, MatX& H) const {
+  if (derivatives_ == Derivatives::AutomaticDifferentiation)
+    co.hessianAD(s, r, H);
+  else
+    co.hessian(s, r, H);
+}
+
+bool Assembler::constraintParameterDerivative(const Constraint& co, const LocalState& s, int k,
+                                              VecX& dphi, MatX& dJ) const {
+  return derivatives_ == Derivatives::AutomaticDifferentiation
+             ? co.parameterDerivativeAD(s, k, dphi, dJ)
+             : co.parameterDerivative(s, k, dphi, dJ);
+}
+
 // ----------------------------------------------------------------------------- vectors
 VecX Assembler::force(const VecX& q, const VecX& v, const VecX& p) const {
   VecX Q = VecX::Zero(n());
@@ -92,7 +128,7 @@ VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    co.jacobian(localState(co.nodes(), q, VecX(), p), J);
+    constraintJacobian(co, localState(co.nodes(), q, VecX(), p), J);
     const auto& map = consDofs_[c];
     for (size_t j = 0; j < map.size(); ++j)
       if (map[j] >= 0) r.segment(consRow_[c], co.rows()) += J.col(j) * x[map[j]];
@@ -105,7 +141,7 @@ VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) 
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    co.jacobian(localState(co.nodes(), q, VecX(), p), J);
+    constraintJacobian(co, localState(co.nodes(), q, VecX(), p), J);
     const auto& map = consDofs_[c];
     const VecX g = J.transpose() * l.segment(consRow_[c], co.rows());
     for (size_t j = 0; j < map.size(); ++j)
@@ -135,7 +171,7 @@ VecX Assembler::hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, co
     const LocalState s = localState(co.nodes(), q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v), xl = gather(consDofs_[c], x);
     for (int i = 0; i < co.rows(); ++i) {
-      co.hessian(s, i, H);
+      constraintHessian(co, s, i, H);
       r[consRow_[c] + i] = vl.dot(H * xl);
     }
   }
@@ -151,7 +187,7 @@ VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const 
     const auto& map = consDofs_[c];
     const VecX xl = gather(map, x);
     for (int i = 0; i < co.rows(); ++i) {
-      co.hessian(s, i, H);
+      constraintHessian(co, s, i, H);
       const VecX g = w[consRow_[c] + i] * (H * xl);
       for (size_t j = 0; j < map.size(); ++j)
         if (map[j] >= 0) r[map[j]] += g[j];
@@ -199,7 +235,7 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
   MatX Kq, Kv;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    el.forceJacobian(localState(el.nodes(), q, v, p), Kq, Kv);
+    elementForceJacobian(el, localState(el.nodes(), q, v, p), Kq, Kv);
     if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq, r0, cq);
     if (sv != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kv, -sv, r0, cv);
   }
@@ -210,7 +246,7 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    co.jacobian(localState(co.nodes(), q, VecX(), p), J);
+    constraintJacobian(co, localState(co.nodes(), q, VecX(), p), J);
     const std::vector<int> rows = iota(consRow_[c], co.rows());
     if (transposed)
       acc.addBlock(consDofs_[c], rows, J.transpose(), s, r0, c0);
@@ -228,7 +264,7 @@ void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p,
     const int nl = static_cast<int>(consDofs_[c].size());
     sum.setZero(nl, nl);
     for (int i = 0; i < co.rows(); ++i) {
-      co.hessian(ls, i, H);
+      constraintHessian(co, ls, i, H);
       sum += w[consRow_[c] + i] * H;
     }
     acc.addBlock(consDofs_[c], consDofs_[c], sum, s, r0, c0);
@@ -244,7 +280,7 @@ void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX
     const VecX vl = gather(consDofs_[c], v);
     MatX rowsBlock(co.rows(), consDofs_[c].size());
     for (int i = 0; i < co.rows(); ++i) {
-      co.hessian(ls, i, H);
+      constraintHessian(co, ls, i, H);
       rowsBlock.row(i) = (H * vl).transpose();
     }
     acc.addBlock(iota(consRow_[c], co.rows()), consDofs_[c], rowsBlock, s, r0, c0);
@@ -273,7 +309,7 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
   }
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    if (!el.parameterDerivative(localState(el.nodes(), q, v, p), k, dQ, dM)) continue;
+    if (!elementParameterDerivative(el, localState(el.nodes(), q, v, p), k, dQ, dM)) continue;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) r[map[i]] += dQ[i];
@@ -288,7 +324,7 @@ VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) co
   const VecX q0 = model_.initialPositions();
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    if (!el.parameterDerivative(localState(el.nodes(), q0, VecX(), p), k, dQ, dM)) continue;
+    if (!elementParameterDerivative(el, localState(el.nodes(), q0, VecX(), p), k, dQ, dM)) continue;
     if (dM.size() == 0) continue;
     const auto& map = elemDofs_[e];
     const VecX g = dM * gather(map, a);
@@ -304,7 +340,7 @@ VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ))
+    if (constraintParameterDerivative(co, localState(co.nodes(), q, VecX(), p), k, dphi, dJ))
       r.segment(consRow_[c], co.rows()) = dphi;
   }
   return r;
@@ -316,7 +352,7 @@ VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, co
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ) && dJ.size())
+    if (constraintParameterDerivative(co, localState(co.nodes(), q, VecX(), p), k, dphi, dJ) && dJ.size())
       r.segment(consRow_[c], co.rows()) = dJ * gather(consDofs_[c], x);
   }
   return r;
@@ -329,7 +365,7 @@ VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, 
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (!co.parameterDerivative(localState(co.nodes(), q, VecX(), p), k, dphi, dJ) || !dJ.size())
+    if (!constraintParameterDerivative(co, localState(co.nodes(), q, VecX(), p), k, dphi, dJ) || !dJ.size())
       continue;
     const VecX g = dJ.transpose() * l.segment(consRow_[c], co.rows());
     const auto& map = consDofs_[c];

@@ -14,12 +14,24 @@
 
 namespace flexsens {
 
+/// Where the assembled derivatives come from: the elements' and constraints' hand-written
+/// analytic partials (sensitivity method "dd"), or forward-mode automatic differentiation of
+/// their value templates (method "ad"). Values (force, phi, mass, potential) are the same.
+enum class Derivatives { Analytic, AutomaticDifferentiation };
+
 class Assembler {
  public:
   using ConstraintList = std::vector<std::unique_ptr<Constraint>>;
   /// Assembles the model's elements and `constraints` (default: the model's own). The PIM
   /// passes its rigidization constraints Lambda here to reuse the same path.
-  explicit Assembler(const Model& model, const ConstraintList* constraints = nullptr);
+  explicit Assembler(const Model& model, const ConstraintList* constraints = nullptr,
+                     Derivatives derivatives = Derivatives::Analytic);
+  Assembler(const Model& model, Derivatives derivatives)
+      : Assembler(model, nullptr, derivatives) {}
+  /// Derivative mode of every derivative entry point below (blocks, products, parameter
+  /// derivatives); may be changed between evaluations.
+  void setDerivatives(Derivatives d) { derivatives_ = d; }
+  Derivatives derivatives() const { return derivatives_; }
   const Model& model() const { return model_; }
   int n() const { return model_.n; }
   int m() const { return m_; }
@@ -74,6 +86,14 @@ class Assembler {
 
  private:
   std::vector<int> dofMap(const std::vector<int>& nodes) const;
+  // The local derivative kernels, analytic or AD by derivatives_ (the loops are shared).
+  void elementForceJacobian(const Element& el, const LocalState& s, MatX& dQdq, MatX& dQdv) const;
+  bool elementParameterDerivative(const Element& el, const LocalState& s, int k, VecX& dQ,
+                                  MatX& dM) const;
+  void constraintJacobian(const Constraint& co, const LocalState& s, MatX& J) const;
+  void constraintHessian(const Constraint& co, const LocalState& s, int r, MatX& H) const;
+  bool constraintParameterDerivative(const Constraint& co, const LocalState& s, int k, VecX& dphi,
+                                     MatX& dJ) const;
   const Model& model_;
   const ConstraintList& cons_;
   int m_ = 0;
@@ -84,6 +104,7 @@ class Assembler {
   /// (elements read gravity through a pointer). Makes an Assembler single-threaded.
   mutable VecX gravityAtP_;
   bool gravityBound_ = false;
+  Derivatives derivatives_ = Derivatives::Analytic;
 };
 
 }  // namespace flexsens

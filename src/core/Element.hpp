@@ -3,12 +3,20 @@
 // design-parameter vector p. It never sees the integrator or the scene file.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/Types.hpp"
 
 namespace flexsens {
+
+/// Dense vectors and matrices of any scalar type T: double for values, Eigen's
+/// AutoDiffScalar for the automatic-differentiation ("ad") kernels (elements/AutoDiff.hpp).
+/// Each element and constraint writes its value (Q(x, v, props), M(props), Phi(x, props))
+/// once as a template on T and evaluates it with both.
+template <class T> using VecT = Eigen::Matrix<T, Eigen::Dynamic, 1>;
+template <class T> using MatT = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 
 /// Local view of the state of the nodes an element or constraint touches.
 struct LocalState {
@@ -38,6 +46,23 @@ class Element {
   /// Partial derivatives of Q and M with respect to design parameter k at fixed q, v.
   /// Returns false when the element does not depend on parameter k (outputs untouched).
   virtual bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const = 0;
+
+  // --- the same derivatives by forward-mode automatic differentiation ("ad") of the
+  // element's value templates (force, mass); a property Quantity q is bound to parameter k
+  // when q.param == k. Defaults throw std::logic_error("no AD kernel").
+  /// dQ/dq and dQ/dv by AD of the force template.
+  virtual void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+    (void)s; (void)dQdq; (void)dQdv;
+    throw std::logic_error("no AD kernel");
+  }
+  /// Same contract as parameterDerivative (false, outputs untouched, when no property the
+  /// kernels read is bound to k); dQ by AD of the force template, dM by AD of the mass
+  /// template (an empty 0x0 dM for massless elements).
+  virtual bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+    (void)s; (void)k; (void)dQ; (void)dM;
+    throw std::logic_error("no AD kernel");
+  }
+
   /// Potential energy (gravity, elastic) [J]; its negative gradient is the conservative part of Q.
   virtual double potential(const LocalState& s) const = 0;
   /// The scalar quantities this element reads, by property name (for parameter binding).
@@ -67,6 +92,25 @@ class Constraint {
   virtual void hessian(const LocalState& s, int r, MatX& H) const = 0;
   /// Phi_p and Phi_qp for parameter k; false if the constraint does not depend on k.
   virtual bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const = 0;
+
+  // --- the same derivatives by forward-mode automatic differentiation ("ad") of the
+  // constraint's Phi template. Defaults throw std::logic_error("no AD kernel").
+  /// Phi_q by first-order AD.
+  virtual void jacobianAD(const LocalState& s, MatX& J) const {
+    (void)s; (void)J;
+    throw std::logic_error("no AD kernel");
+  }
+  /// Hessian of row r by nested (second-order) AD.
+  virtual void hessianAD(const LocalState& s, int r, MatX& H) const {
+    (void)s; (void)r; (void)H;
+    throw std::logic_error("no AD kernel");
+  }
+  /// Same contract as parameterDerivative: Phi_p by AD, Phi_qp (rows() x local dofs) by
+  /// nested AD; false, outputs untouched, when no property is bound to k.
+  virtual bool parameterDerivativeAD(const LocalState& s, int k, VecX& dphi, MatX& dJ) const {
+    (void)s; (void)k; (void)dphi; (void)dJ;
+    throw std::logic_error("no AD kernel");
+  }
   virtual std::vector<std::pair<std::string, Quantity*>> properties() = 0;
 
  private:

@@ -20,7 +20,7 @@ struct OutputSpec {
 
 /// How sensitivities are computed (the speed-versus-accuracy choice).
 struct SensitivitySettings {
-  std::string method = "dd";       ///< dd | dq | nd
+  std::string method = "dd";       ///< dd | ad | dq | nd
   std::string ndScheme = "central";
   double ndStep = 1e-6;            ///< relative step of nd
 };
