@@ -1,5 +1,6 @@
 #include "pim/Pim.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 #include "integrators/InitialState.hpp"
@@ -8,47 +9,122 @@ namespace flexsens {
 
 namespace {
 
-/// A = [Phi_q; Lambda_q; z_q] and the labels of its rows.
-MatX pimMatrix(const Assembler& as, const Assembler& lam, const PimCase& c, const VecX& q,
-               const VecX& p, std::vector<std::string>* labels) {
+/// Rows `rows` of the vector v.
+VecX pick(const VecX& v, const std::vector<int>& rows) {
+  VecX r(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) r[i] = v[rows[i]];
+  return r;
+}
+
+/// A = [Phi_q; Lambda_q (kept rows); z_q] and the labels of its rows.
+MatX pimMatrix(const Assembler& as, const Assembler& lam, const std::vector<int>& kept, const PimCase& c,
+               const VecX& q, const VecX& p, std::vector<std::string>* labels) {
   const Model& m = as.model();
-  MatX A(m.n, m.n);
+  const int mr = static_cast<int>(kept.size());
+  MatX A(as.m() + mr + c.sdofs.size(), m.n);
   A.topRows(as.m()) = as.phiQDense(q, p);
-  A.middleRows(as.m(), lam.m()) = lam.phiQDense(q, p);
+  if (mr) {
+    const MatX L = lam.phiQDense(q, p);
+    for (int i = 0; i < mr; ++i) A.row(as.m() + i) = L.row(kept[i]);
+  }
   for (size_t i = 0; i < c.sdofs.size(); ++i)
-    A.row(as.m() + lam.m() + i) = c.sdofs[i]->gradient(m, q).transpose();
+    A.row(as.m() + mr + i) = c.sdofs[i]->gradient(m, q).transpose();
   if (labels) {
     for (int r = 0; r < as.m(); ++r) labels->push_back("Phi: " + as.rowLabel(r));
-    for (int r = 0; r < lam.m(); ++r) labels->push_back("Lambda: " + lam.rowLabel(r));
+    for (int r : kept) labels->push_back("Lambda: " + lam.rowLabel(r));
     for (const auto& z : c.sdofs) labels->push_back("SDOF: " + z->name);
   }
   return A;
 }
 
-void checkCount(const Assembler& as, const Assembler& lam, const PimCase& c) {
-  const int d = as.n() - as.m(), mr = lam.m();
+void checkCount(const Assembler& as, const Assembler& lam, const LambdaSelection& sel, const PimCase& c) {
+  const int d = as.n() - as.m(), mr = static_cast<int>(sel.kept.size());
   const int ds = d - mr;
   if (static_cast<int>(c.sdofs.size()) != ds) {
     std::ostringstream os;
     os << c.file << ": case '" << c.name << "': " << c.sdofs.size() << " SDOF(s) given, but d - m_r = "
        << d << " - " << mr << " = " << ds << " are required (n = " << as.n() << ", m = " << as.m()
-       << ", m_r = " << mr << " rigidization equations)";
+       << ", m_r = " << mr << " independent rigidization equations";
+    if (!sel.dropped.empty())
+      os << " of " << lam.m() << " generated; " << sel.dropped.size()
+         << " are implied by the constraints and left out";
+    os << ")";
     if (ds < 0) os << "; the rigidized bodies over-constrain the mechanism: rigidize fewer bodies";
     throw InputError(os.str());
   }
 }
 
+/// Throws InputError if the rigidization rows left out of A are violated by the solution:
+/// residual r (one entry per dropped row) against the sizes of the terms it sums.
+void checkDroppedRows(const PimCase& c, const Model& m, const Assembler& lam, const LambdaSelection& sel,
+                      int k, const VecX& r, const VecX& termScale, double globalScale, const char* level,
+                      double nonRigidVelocity = 0.0) {
+  std::ostringstream os;
+  int bad = 0;
+  for (size_t i = 0; i < sel.dropped.size(); ++i) {
+    const double tol = 1e-8 * termScale[i] + 1e-11 * globalScale;
+    if (std::abs(r[i]) <= tol) continue;
+    if (bad < 3) os << (bad ? ", " : "") << "[" << lam.rowLabel(sel.dropped[i]) << "] residual " << r[i];
+    ++bad;
+  }
+  if (!bad) return;
+  std::ostringstream msg;
+  msg << c.file << ": case '" << c.name << "': the rigidized bodies over-constrain the mechanism for parameter '"
+      << m.parameters[k].name << "': " << bad << " rigidization equation(s) implied by the constraints at the "
+      << "nominal configuration (left out of A) are violated by the " << level << " sensitivities: " << os.str()
+      << (bad > 3 ? ", ..." : "") << "; the parameter changes a dimension the rigidized bodies fix: rigidize fewer bodies";
+  if (nonRigidVelocity > 0)
+    msg << " (or give the rigidized bodies a rigid initial velocity: their nominal velocities deform them, "
+        << "|Lambda_q q'|_inf = " << nonRigidVelocity << ")";
+  throw InputError(msg.str());
+}
+
 }  // namespace
+
+LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lam, const VecX& q, const VecX& p) {
+  LambdaSelection sel;
+  if (!lam.m()) return sel;
+  const MatX L = lam.phiQDense(q, p);
+  const double scale = L.rowwise().norm().maxCoeff();
+  const double tol = 1e-10 * scale;
+  // Project the rows onto the orthogonal complement of Phi_q's row space.
+  MatX P = L;
+  if (as.m()) {
+    const MatX Jt = as.phiQDense(q, p).transpose();  // n x m
+    Eigen::ColPivHouseholderQR<MatX> qr(Jt);
+    qr.setThreshold(1e-12);
+    const int r = static_cast<int>(qr.rank());
+    if (r > 0) {
+      const MatX Q = qr.householderQ() * MatX::Identity(Jt.rows(), r);
+      P -= (P * Q) * Q.transpose();
+    }
+  }
+  // Greedy in row order (earlier rows preferred): keep a row if it adds a direction to the
+  // span of the rows kept so far (Gram-Schmidt, twice for orthogonality).
+  MatX B(lam.n(), std::min(lam.m(), lam.n()));  // orthonormal basis of the kept rows
+  int kept = 0;
+  for (int i = 0; i < lam.m(); ++i) {
+    VecX v = P.row(i).transpose();
+    for (int pass = 0; pass < 2 && kept; ++pass) v -= B.leftCols(kept) * (B.leftCols(kept).transpose() * v);
+    const double nv = v.norm();
+    if (nv > tol && kept < B.cols()) {
+      B.col(kept++) = v / nv;
+      sel.kept.push_back(i);
+    } else {
+      sel.dropped.push_back(i);
+    }
+  }
+  return sel;
+}
 
 StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State& s,
                               const VecX& p, PimReport& rep) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
-  checkCount(as, lam, c);
   rep.n = m.n;
   rep.m = as.m();
   rep.d = m.n - as.m();
-  rep.mr = lam.m();
+  rep.lambdaGenerated = lam.m();
   rep.ds = static_cast<int>(c.sdofs.size());
   if (lam.m()) {
     const VecX L = lam.phi(s.q, p);
@@ -62,9 +138,13 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
       throw InputError(os.str());
     }
   }
+  const LambdaSelection sel = selectRigidizationRows(as, lam, s.q, p);
+  rep.mr = static_cast<int>(sel.kept.size());
+  rep.lambdaDropped = static_cast<int>(sel.dropped.size());
+  checkCount(as, lam, sel, c);
   std::vector<std::string> labels;
-  const MatX A = pimMatrix(as, lam, c, s.q, p, &labels);
-  const Eigen::JacobiSVD<MatX> svd(A, Eigen::ComputeFullU);
+  const MatX A = pimMatrix(as, lam, sel.kept, c, s.q, p, &labels);
+  const Eigen::BDCSVD<MatX> svd(A, Eigen::ComputeFullU);
   const VecX sv = svd.singularValues();
   rep.condition = sv[0] / sv[sv.size() - 1];
   if (!(sv[sv.size() - 1] > 1e-12 * sv[0])) {
@@ -87,6 +167,12 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
   }
   const Eigen::PartialPivLU<MatX> lu(A);
   const int np = static_cast<int>(p.size());
+  const int mr = rep.mr;
+  MatX Ld(sel.dropped.size(), m.n);  // dropped rows of Lambda_q, for the check below
+  if (!sel.dropped.empty()) {
+    const MatX L = lam.phiQDense(s.q, p);
+    for (size_t i = 0; i < sel.dropped.size(); ++i) Ld.row(i) = L.row(sel.dropped[i]);
+  }
   StateWithSens out;
   out.x = s;
   rep.qp.resize(m.n, np);
@@ -94,16 +180,34 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
   for (int k = 0; k < np; ++k) {
     VecX b(m.n);
     b.head(as.m()) = -as.phiParamDerivative(s.q, p, k);
-    b.segment(as.m(), lam.m()) = -lam.phiParamDerivative(s.q, p, k);
-    for (size_t i = 0; i < c.sdofs.size(); ++i) b[as.m() + lam.m() + i] = c.sdofs[i]->dp;
+    const VecX lamP = lam.m() ? lam.phiParamDerivative(s.q, p, k) : VecX();
+    b.segment(as.m(), mr) = -pick(lamP, sel.kept);
+    for (size_t i = 0; i < c.sdofs.size(); ++i) b[as.m() + mr + i] = c.sdofs[i]->dp;
     State d;
     d.q = lu.solve(b);
+    if (!sel.dropped.empty()) {
+      const VecX lp = pick(lamP, sel.dropped);
+      const VecX scale = (Ld.cwiseAbs() * d.q.cwiseAbs()) + lp.cwiseAbs();
+      const double global = (A.cwiseAbs() * d.q.cwiseAbs() + b.cwiseAbs()).maxCoeff();
+      checkDroppedRows(c, m, lam, sel, k, Ld * d.q + lp, scale, global, "position (q_p0)");
+    }
     b.head(as.m()) = -(as.hessianRowsTimes(s.q, p, s.v, d.q) + as.phiQParamDerivativeTimes(s.q, p, k, s.v));
-    b.segment(as.m(), lam.m()) =
-        -(lam.hessianRowsTimes(s.q, p, s.v, d.q) + lam.phiQParamDerivativeTimes(s.q, p, k, s.v));
+    VecX lamV;
+    if (lam.m()) {
+      lamV = lam.hessianRowsTimes(s.q, p, s.v, d.q) + lam.phiQParamDerivativeTimes(s.q, p, k, s.v);
+      b.segment(as.m(), mr) = -pick(lamV, sel.kept);
+    }
     for (size_t i = 0; i < c.sdofs.size(); ++i)
-      b[as.m() + lam.m() + i] = c.sdofs[i]->dv - d.q.dot(c.sdofs[i]->hessian(m, s.q) * s.v);
+      b[as.m() + mr + i] = c.sdofs[i]->dv - d.q.dot(c.sdofs[i]->hessian(m, s.q) * s.v);
     d.v = lu.solve(b);
+    if (!sel.dropped.empty()) {
+      const VecX lv = pick(lamV, sel.dropped);
+      const VecX scale = (Ld.cwiseAbs() * d.v.cwiseAbs()) + lv.cwiseAbs();
+      const double global = (A.cwiseAbs() * d.v.cwiseAbs() + b.cwiseAbs()).maxCoeff();
+      const double nonRigid = (lam.phiQDense(s.q, p) * s.v).lpNorm<Eigen::Infinity>();
+      checkDroppedRows(c, m, lam, sel, k, Ld * d.v + lv, scale, global, "velocity (q'_p0)",
+                       nonRigid > 1e-10 * std::max(1.0, s.v.lpNorm<Eigen::Infinity>()) ? nonRigid : 0.0);
+    }
     solveAccelerationSensitivity(as, s, p, k, d);
     rep.qp.col(k) = d.q;
     rep.vp.col(k) = d.v;
@@ -116,7 +220,9 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
                             const VecX& p0, const VecX& p, int k) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
-  checkCount(as, lam, c);
+  const LambdaSelection sel = selectRigidizationRows(as, lam, q0, p0);
+  checkCount(as, lam, sel, c);
+  const int mr = static_cast<int>(sel.kept.size());
   VecX target(c.sdofs.size());
   for (size_t i = 0; i < c.sdofs.size(); ++i)
     target[i] = c.sdofs[i]->value(m, q0) + c.sdofs[i]->dp * (p[k] - p0[k]);
@@ -124,10 +230,10 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
   for (int it = 0; it < 50; ++it) {
     VecX F(m.n);
     F.head(as.m()) = as.phi(q, p);
-    F.segment(as.m(), lam.m()) = lam.phi(q, p);
-    for (size_t i = 0; i < c.sdofs.size(); ++i) F[as.m() + lam.m() + i] = c.sdofs[i]->value(m, q) - target[i];
+    if (mr) F.segment(as.m(), mr) = pick(lam.phi(q, p), sel.kept);
+    for (size_t i = 0; i < c.sdofs.size(); ++i) F[as.m() + mr + i] = c.sdofs[i]->value(m, q) - target[i];
     if (F.lpNorm<Eigen::Infinity>() < 1e-14) return q;
-    q -= pimMatrix(as, lam, c, q, p, nullptr).partialPivLu().solve(F);
+    q -= pimMatrix(as, lam, sel.kept, c, q, p, nullptr).partialPivLu().solve(F);
   }
   throw NumericalError("case '" + c.name + "': the perturbed initial configuration did not converge");
 }

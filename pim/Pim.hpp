@@ -27,14 +27,29 @@ struct PimCase {
 };
 
 struct PimReport {
-  int n = 0, m = 0, d = 0, mr = 0, ds = 0;
+  /// mr: independent rigidization equations kept in A; lambdaGenerated: all the generator
+  /// produced; lambdaDropped = lambdaGenerated - mr (rows implied by Phi and earlier rows).
+  int n = 0, m = 0, d = 0, mr = 0, ds = 0, lambdaGenerated = 0, lambdaDropped = 0;
   double condition = 0.0;  ///< 2-norm condition number of A
   MatX qp, vp;             ///< n x (number of parameters)
 };
 
+/// Rows of Lambda_q kept in the PIM matrix: those independent of Phi_q's rows and of the
+/// Lambda rows kept before them (in order), at (q, p). A rigidized body's equations can be
+/// implied by the model's constraints (e.g. the out-of-plane components of a planar cloud
+/// whose nodes the model keeps on a plane); keeping them would make A singular.
+struct LambdaSelection {
+  std::vector<int> kept, dropped;  ///< row indices of Lambda, ascending
+};
+LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lambda, const VecX& q,
+                                       const VecX& p);
+
 /// Solves eqs. (8) and (9) at the consistent nominal state s (positions, velocities) and
 /// returns the full initial state with sensitivities. Throws InputError for a wrong SDOF
 /// count or a body that is not undeformed, NumericalError for a singular or near-singular A.
+/// Dependent rigidization rows are left out of A (see selectRigidizationRows); afterwards
+/// q_p0 and q'_p0 must satisfy them too, or InputError (the rigidized bodies over-constrain
+/// the mechanism for that parameter).
 StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State& s,
                               const VecX& p, PimReport& report);
 

@@ -51,7 +51,8 @@ int Rigidization::rows() const {
 }
 
 Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, const Model& m,
-                      const MatX& X, const std::string& where, const Quantity* pairLength) {
+                      const MatX& X, const std::string& where, const Quantity* pairLength,
+                      const RigidizeOptions& opt) {
   const int dim = m.dim;
   if (nodes.size() < 2) throw InputError(where + ": a rigid body needs at least two nodes");
   Rigidization R;
@@ -60,7 +61,8 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   for (size_t i = 1; i < nodes.size(); ++i) size = std::max(size, (pos(i) - pos(0)).norm());
   if (!(size > 0)) throw InputError(where + ": all nodes of '" + name + "' coincide");
   const double tol = 1e-9 * size;
-  // Basic points: A = first node, then greedily the point farthest from the span so far.
+  // Basic points: A = first node, then greedily the point farthest from the span so far
+  // (or, inOrder, the first node outside it).
   std::vector<int> basic = {0};
   MatX E(dim, 0);  // orthonormal basis of the span, to measure distances from it
   for (int level = 0; level < dim; ++level) {
@@ -69,7 +71,11 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
     for (size_t i = 1; i < nodes.size(); ++i) {
       VecX r = pos(i) - pos(0);
       if (E.cols()) r -= E * (E.transpose() * r);
-      if (r.norm() > bestDist) { bestDist = r.norm(); best = static_cast<int>(i); }
+      if (r.norm() > bestDist) {
+        bestDist = r.norm();
+        best = static_cast<int>(i);
+        if (opt.inOrder) break;
+      }
     }
     if (best < 0) break;
     basic.push_back(best);
@@ -80,9 +86,12 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   }
   R.cloudDimension = static_cast<int>(basic.size()) - 1;
   for (int b : basic) R.basicPoints.push_back(nodes[b]);
+  const auto ground = [&](int i) { return m.nodes[nodes[i]].ground; };
   // Distances among basic points (1, 3 or 6 quadratic constraints).
   for (size_t i = 0; i < basic.size(); ++i)
     for (size_t j = i + 1; j < basic.size(); ++j) {
+      if (ground(basic[i]) && ground(basic[j])) continue;  // fixed already
+      if (opt.linked && opt.linked(nodes[basic[i]], nodes[basic[j]])) continue;
       Quantity L{(pos(basic[j]) - pos(basic[i])).norm(), -1};
       if (pairLength && nodes.size() == 2) L = *pairLength;
       R.constraints.push_back(std::make_unique<DistanceConstraint>(
@@ -97,6 +106,9 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   const Eigen::LDLT<MatX> metric(G);
   for (size_t i = 1; i < nodes.size(); ++i) {
     if (std::find(basic.begin(), basic.end(), static_cast<int>(i)) != basic.end()) continue;
+    bool allGround = ground(static_cast<int>(i));
+    for (int b : basic) allGround = allGround && ground(b);
+    if (allGround) continue;
     const VecX c = metric.solve(B.transpose() * (pos(i) - pos(0)));
     std::vector<int> ids;
     for (int b : basic) ids.push_back(nodes[b]);

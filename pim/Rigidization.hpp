@@ -6,6 +6,7 @@
 // Used by the PIM for initially undeformed flexible bodies, and for rigid models of bodies.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,11 +47,24 @@ struct Rigidization {
   int rows() const;
 };
 
+/// How the generator picks basic points and which equations it may leave out.
+struct RigidizeOptions {
+  /// Basic points in list order (the next node that widens the span) instead of the
+  /// best-conditioned greedy choice (farthest from the span so far). Rigid bodies of a scene
+  /// use it so that the user decides which points carry the mass matrix.
+  bool inOrder = false;
+  /// linked(i, j): the distance of model nodes i and j is fixed already (both ground, or both
+  /// on an earlier rigid body, as the two axis points a revolute joint shares); the
+  /// generator then omits that distance, which would be a redundant constraint.
+  std::function<bool(int, int)> linked;
+};
+
 /// Rigidizes the cloud `nodes` at positions X (one column per model node). `pairLength`,
 /// if given, is the quantity the distance of a two-node cloud keeps (e.g. a spring's
 /// natural length, so that a parameter bound to it enters Lambda_p). Throws InputError
-/// (prefixed by `where`) for degenerate clouds.
+/// (prefixed by `where`) for degenerate clouds. Equations among ground nodes only are left out.
 Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, const Model& m,
-                      const MatX& X, const std::string& where, const Quantity* pairLength = nullptr);
+                      const MatX& X, const std::string& where, const Quantity* pairLength = nullptr,
+                      const RigidizeOptions& options = {});
 
 }  // namespace flexsens

@@ -2,6 +2,7 @@
 // coordinates whose parameter derivatives z_p0, z'_p0 the user prescribes.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +39,40 @@ class AngleSdof : public Sdof {
   double value(const Model& m, const VecX& q) const override;
   VecX gradient(const Model& m, const VecX& q) const override;
   MatX hessian(const Model& m, const VecX& q) const override;
+};
+
+// SDOFs of a 3D rigid body in natural coordinates (elements/RigidBody.hpp), in pim/BodySdof.cpp:
+// its centre of mass (a fixed linear combination of the four basic points) and its orientation.
+
+/// r_G[component] = r_A + sum_j c_j (r_j - r_A) with c = E0^{-1} (com - X0_A),
+/// E0 = [X0_B - X0_A, X0_C - X0_A, X0_D - X0_A]: a LinearSdof on the basic points.
+std::unique_ptr<LinearSdof> centerOfMassSdof(const std::array<int, 4>& basic,
+                                             const Eigen::Matrix<double, 3, 4>& X0,
+                                             const Eigen::Vector3d& com, int component);
+
+/// Tait-Bryan angle (z-y'-x'': yaw about z, pitch about y, roll about x) [rad] of
+/// R = E E0^{-1}, E = [r_B - r_A, r_C - r_A, r_D - r_A] now and E0 at t = 0:
+///   roll = atan2(R32, R33), pitch = -asin(R31), yaw = atan2(R21, R11)
+/// (R is a rotation when the body's rigidity constraints hold; R = I and every angle is 0
+/// at t = 0). Gradient and Hessian by nested forward AD over the 12 basic-point
+/// coordinates, mapped to the global dofs (ground basic points contribute none).
+class BodyRotationSdof : public Sdof {
+ public:
+  /// axis: 0 = x (roll), 1 = y (pitch), 2 = z (yaw).
+  BodyRotationSdof(const std::array<int, 4>& basic, const Eigen::Matrix<double, 3, 4>& X0, int axis);
+  double value(const Model& m, const VecX& q) const override;
+  VecX gradient(const Model& m, const VecX& q) const override;
+  MatX hessian(const Model& m, const VecX& q) const override;
+  /// The angle from the basic points' coordinates x = (r_A, r_B, r_C, r_D).
+  double angle(const VecX& x) const;
+
+ private:
+  template <class T>
+  T angleT(const VecT<T>& x) const;
+  VecX local(const Model& m, const VecX& q) const;
+  std::array<int, 4> basic_;
+  Eigen::Matrix3d Einv0_;
+  int axis_;
 };
 
 }  // namespace flexsens

@@ -81,3 +81,56 @@ integrator: {type: idas, t_end: 1}
 }
 
 }  // namespace flexsens::test
+
+namespace flexsens::test {
+
+/// A spatial model with every 3D kernel: rigid bodies in natural coordinates (a revolute to
+/// the ground, a universal joint, an attached point), rotational spring-dampers (to the
+/// ground and between bodies), point-on-plane constraints (a plane fixed to a body, one fixed
+/// in space), a spherical joint, all properties bound to parameters.
+inline Scene mixedScene3D() {
+  return readSceneText(R"(
+dimension: 3
+gravity: [0.2, -0.3, -9.81]
+nodes:
+  - {name: O,  position: [0, 0, 0], ground: true}
+  - {name: OX, position: [1, 0, 0], ground: true}
+  - {name: R,  position: [0, 1, 0], ground: true}
+  - {name: P,  position: [0, 1, 0]}
+  - {name: PX, position: [0.3, 1, 0]}
+  - {name: E1, position: [0, 0.5, 0.2]}
+  - {name: S,  position: [0.1, 1.1, -0.9]}
+  - {name: PY, position: [0, 1.2, 0]}
+  - {name: E2, position: [0.2, 1, -0.5]}
+  - {name: Q,  position: [0.42, 0.4, 0.1]}
+  - {name: F,  position: [1.53, 0.2, -0.3]}
+  - {name: F2, position: [1.53, 0.2, -0.3]}
+elements:
+  - {name: bar1, type: rigid_body, nodes: [O, OX, P, E1, PX], mass: 1.2, center_of_mass: [0.1, 0.5, 0.05],
+     inertia: [0.09, 0.03, 0.08, 0.001, -0.002, 0.003]}
+  - {name: bar2, type: rigid_body, nodes: [P, S, PY, E2], mass: 0.8, center_of_mass: [0.05, 1.05, -0.45],
+     inertia: [0.06, 0.058, 0.004]}
+  - {name: j1, type: rotational_spring_damper, axis: [O, OX], from: [O, R], to: [O, P], stiffness: 2, damping: 0.5}
+  - {name: j2, type: rotational_spring_damper, axis: [P, PX], from: [O, P], to: [P, S], stiffness: 3,
+     damping: 0.2, rest_angle: 0.4}
+  - {name: sQF, type: spring_damper, nodes: [Q, F], stiffness: 30, damping: 1}
+  - {name: sF2S, type: spring_damper, nodes: [F2, S], stiffness: 20}
+constraints:
+  - {name: cross, type: perpendicular, nodes: [P, PX, P, PY]}
+  - {name: onbody, type: point_on_plane, nodes: [Q], body: bar1, point: [0.5, 0, 0], normal: [1, 0.2, 0]}
+  - {name: inspace, type: point_on_plane, nodes: [F], point: [1.5, 0, 0], normal: [1, 0, 0.1]}
+  - {name: ball, type: spherical, nodes: [F, F2]}
+parameters:
+  - {name: m1, of: bar1, property: mass}
+  - {name: Ixx, of: bar1, property: Ixx}
+  - {name: Ixy2, of: bar2, property: Ixy}   # (Ixy of bar1 cannot act: it turns about a fixed axis)
+  - {name: Izz2, of: bar2, property: Izz}
+  - {name: k1, of: j1, property: stiffness}
+  - {name: c1, of: j1, property: damping}
+  - {name: k2, of: j2, property: stiffness}
+  - {name: gz, of: gravity, property: z}
+integrator: {type: trapezoidal, t_end: 1, dt: 0.001}
+)", "mixed3d.yaml");
+}
+
+}  // namespace flexsens::test

@@ -465,3 +465,8 @@ TEST(AutoDiff, RigidFivebarSensitivitiesMatchAnalyticMode) {
     }
   }
 }
+
+TEST(AutoDiff, AssemblerSpatialSceneWithRigidBodiesJointsAndPlanes) {
+  Scene sc = test::mixedScene3D();
+  compareAssemblers(*sc.model, nullptr, 71);
+}

@@ -8,6 +8,7 @@
 #include "integrators/FixedStep.hpp"
 #include "integrators/Idas.hpp"
 #include "integrators/InitialState.hpp"
+#include "integrators/Maggi.hpp"
 #include "output/ResultWriter.hpp"
 
 namespace flexsens {
@@ -15,8 +16,10 @@ namespace flexsens {
 void applyOptions(Scene& sc, const RunOptions& opt) {
   auto& s = sc.integrator;
   if (opt.integrator) {
-    if (*opt.integrator != "idas" && *opt.integrator != "trapezoidal" && *opt.integrator != "bdf1")
-      throw InputError("option --integrator: expected idas, trapezoidal or bdf1, got '" + *opt.integrator + "'");
+    if (*opt.integrator != "idas" && *opt.integrator != "trapezoidal" && *opt.integrator != "bdf1" &&
+        *opt.integrator != "maggi_rk4")
+      throw InputError("option --integrator: expected idas, trapezoidal, bdf1 or maggi_rk4, got '" +
+                       *opt.integrator + "'");
     s.type = *opt.integrator;
   }
   if (opt.tEnd) {
@@ -85,8 +88,9 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
 
 IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,
                           const IntegratorSettings& set, Observer& obs) {
-  return set.type == "idas" ? integrateIdas(as, p, start, set, obs)
-                            : integrateFixedStep(as, p, start, set, obs);
+  if (set.type == "idas") return integrateIdas(as, p, start, set, obs);
+  if (set.type == "maggi_rk4") return integrateMaggi(as, p, start, set, obs);
+  return integrateFixedStep(as, p, start, set, obs);
 }
 
 namespace {
@@ -111,6 +115,7 @@ void writeSummary(const std::string& path, const Scene& sc, const IntegratorStat
     for (const auto& z : c.sdofs) sdofs.push_back(z->name);
     js << "  \"case\": {\"name\": " << jsonString(c.name) << ", \"n\": " << pim->n << ", \"m\": " << pim->m
        << ", \"d\": " << pim->d << ", \"m_r\": " << pim->mr << ", \"d_s\": " << pim->ds
+       << ", \"lambda_generated\": " << pim->lambdaGenerated << ", \"lambda_dropped\": " << pim->lambdaDropped
        << ", \"rigidized\": " << list(c.rigidized) << ", \"rigid_model\": " << list(c.rigidModel)
        << ", \"sdofs\": " << list(sdofs) << ", \"condition_A\": " << jsonNumber(pim->condition) << ",\n"
        << "           \"q_p0\": {";

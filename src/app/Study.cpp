@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -41,10 +42,10 @@ void replaceOnce(std::string& s, const std::string& from, const std::string& to)
   s.replace(at, from.size(), to);
 }
 
-std::string paramList(const std::vector<std::string>& names, int k) {
-  std::string r = "[";
-  for (int i = 0; i < k; ++i) r += (i ? ", " : "") + names[i];
-  return r + "]";
+std::string join(const std::vector<std::string>& names, int k, const std::string& sep = ", ") {
+  std::string r;
+  for (int i = 0; i < k; ++i) r += (i ? sep : "") + names[i];
+  return r;
 }
 
 /// Rigid five-bar, case R1 with the first k of: L_A1, m_12, m_23, g_z.
@@ -53,7 +54,7 @@ std::string rigidScene(const std::string& src, int k) {
   replaceOnce(s, "  - {name: L_A1, of: bar_A1, property: length}\n",
               "  - {name: L_A1, of: bar_A1, property: length}\n  - {name: m_12, of: bar_12, property: mass}\n"
               "  - {name: m_23, of: bar_23, property: mass}\n  - {name: g_z, of: gravity, property: z}\n");
-  replaceOnce(s, "parameters: [L_A1]", "parameters: " + paramList({"L_A1", "m_12", "m_23", "g_z"}, k));
+  replaceOnce(s, "parameters: [L_A1]", "parameters: [" + join({"L_A1", "m_12", "m_23", "g_z"}, k) + "]");
   return s;
 }
 
@@ -63,7 +64,7 @@ std::string flexScene(const std::string& src, int k, int segments) {
   replaceOnce(s, "  - {name: L_B1, of: spring_B1, property: natural_length}  # cases F4-F6\n",
               "  - {name: L_B1, of: spring_B1, property: natural_length}\n  - {name: E, of: beam_12, property: E}\n"
               "  - {name: g_z, of: gravity, property: z}\n");
-  replaceOnce(s, "{name: F1, parameters: [L_A1]", "{name: F1, parameters: " + paramList({"L_A1", "L_B1", "E", "g_z"}, k));
+  replaceOnce(s, "{name: F1, parameters: [L_A1]", "{name: F1, parameters: [" + join({"L_A1", "L_B1", "E", "g_z"}, k) + "]");
   if (segments != 2) {
     std::string nodes, chain = "[n1";
     for (int j = 1; j < segments; ++j) {
@@ -79,14 +80,52 @@ std::string flexScene(const std::string& src, int k, int segments) {
   return s;
 }
 
+/// A seed-000 scene (no PIM case: every declared parameter is active) keeping the first k
+/// entries of its `parameters:` list.
+std::string seedScene(const std::string& src, const std::string& file, int k) {
+  std::string s = slurp(src + "/examples/seed000/" + file);
+  size_t at = s.find("\nparameters:\n");
+  if (at == std::string::npos) throw std::logic_error("study: no parameters list in " + file);
+  at += std::string("\nparameters:\n").size();
+  for (int i = 0; i < k; ++i) {
+    if (s.compare(at, 4, "  - ") != 0) throw std::logic_error("study: " + file + " declares fewer than " + std::to_string(k) + " parameters");
+    at = s.find('\n', at) + 1;
+  }
+  size_t end = at;
+  while (s.compare(end, 4, "  - ") == 0) end = s.find('\n', end) + 1;
+  s.erase(at, end - at);
+  return s;
+}
+
 struct Config {
   std::string integrator = "trapezoidal";
   double dtOrTol = 1e-3;
-  std::string method = "dd";  ///< dd | dq | nd | nd-forward | none
+  std::string method = "dd";  ///< dd | ad | dq | nd | nd-forward | none
   double ndStep = 1e-6;
   double tEnd = 2.0;
   double frame = 0.05;
 };
+
+Config config(const std::string& integrator, double dtOrTol, const std::string& method, double tEnd, double frame,
+              double ndStep = 1e-6) {
+  Config c;
+  c.integrator = integrator;
+  c.dtOrTol = dtOrTol;
+  c.method = method;
+  c.ndStep = ndStep;
+  c.tEnd = tEnd;
+  c.frame = frame;
+  return c;
+}
+
+/// The converged reference of every comparison: IDAS with analytic sensitivities, rtol = atol.
+Config reference(double tEnd, double frame, double rtol = 1e-10) { return config("idas", rtol, "dd", tEnd, frame); }
+
+std::string setting(const Config& c) {
+  std::ostringstream os;
+  os << (c.integrator == "idas" ? "rtol " : "dt ") << c.dtOrTol;
+  return os.str();
+}
 
 struct Result {
   FrameRecorder rec;
@@ -95,11 +134,14 @@ struct Result {
   std::string failure;
 };
 
-/// Runs case `name` of scene text `text`; the best CPU time of `reps` repetitions.
-Result runCase(const std::string& text, const std::string& name, const Config& c, int reps = 1) {
+/// Runs case `name` of scene text `text`: the best CPU time of `reps` repetitions (fewer when
+/// the repetitions so far took over `budget` CPU seconds).
+Result runCase(const std::string& text, const std::string& name, const Config& c, int reps = 1,
+               double budget = 1.5) {
   Result best;
   best.seconds = 1e300;
-  for (int r = 0; r < reps; ++r) {
+  double spent = 0.0;
+  for (int r = 0; r < reps && (r == 0 || spent < budget); ++r) {
     Result res;
     try {
       Scene sc = readSceneText(text, "study.yaml", name);
@@ -131,15 +173,48 @@ Result runCase(const std::string& text, const std::string& name, const Config& c
       res.failure = e.what();
     }
     if (!res.failure.empty()) return res;
+    spent += res.seconds;
     if (res.seconds < best.seconds) best = std::move(res);
   }
   return best;
 }
 
-int z2Index(const std::string& text, const std::string& name) {
-  Scene sc = readSceneText(text, "study.yaml", name);
-  return sc.model->dof(sc.model->nodeIndex("n2"), 1);
-}
+/// The integrators and methods of a mechanism's cost table.
+struct CostSetup {
+  std::string integrator;
+  double dt;
+  std::vector<std::string> methods;
+};
+
+/// One mechanism of the study; every section iterates over a list of these.
+struct Mechanism {
+  std::string key;                            ///< file-name key (CSV, PNG)
+  std::string title;                          ///< report heading
+  std::string caseName;                       ///< PIM case ("" for the seed scenes)
+  std::string output;                         ///< the studied output, named in the scene
+  std::vector<std::string> params;            ///< parameter names, in the order they are added
+  std::function<std::string(int)> scene;      ///< scene text with the first k parameters
+  double tEnd;                                ///< horizon of the cost and error-over-time runs [s]
+  double tPoint;                              ///< time of the work-precision and nd-sweep errors [s]
+  std::vector<CostSetup> cost;
+};
+
+/// Evaluates the mechanism's output and its derivative (output gradient . q_p) on frames.
+class Probe {
+ public:
+  Probe(const Mechanism& mech, const std::string& text) : scene_(readSceneText(text, "study.yaml", mech.caseName)) {
+    for (size_t i = 0; i < scene_.outputs.size(); ++i)
+      if (scene_.outputs[i].name == mech.output) index_ = int(i);
+    if (index_ < 0) throw std::logic_error("study: scene of " + mech.key + " has no output " + mech.output);
+  }
+  double value(const StateWithSens& s) const { return out().value(*scene_.model, s.x.q); }
+  double sens(const StateWithSens& s, int k = 0) const { return out().derivative(*scene_.model, s.x.q, s.dp[k].q); }
+
+ private:
+  const OutputSpec& out() const { return scene_.outputs[index_]; }
+  Scene scene_;
+  int index_ = -1;
+};
 
 std::string fmt(double v, int prec = 3) {
   std::ostringstream os;
@@ -148,10 +223,13 @@ std::string fmt(double v, int prec = 3) {
 }
 
 std::string sci(double v) {
+  if (std::isnan(v)) return "-";
   std::ostringstream os;
   os << std::scientific << std::setprecision(2) << v;
   return os.str();
 }
+
+std::string shortFailure(const std::string& f) { return "stopped: " + f.substr(0, 120); }
 
 }  // namespace
 
@@ -160,188 +238,267 @@ std::string runStudy(const StudyOptions& opt) {
   fs::create_directories(opt.outDir);
   const std::string& src = opt.sourceDir;
   const int reps = opt.quick ? 1 : 3;
+  const double seedT = opt.quick ? 1.0 : 5.0;
+  const auto wall0 = std::chrono::steady_clock::now();
+  const auto cpu0 = std::clock();
   std::ostringstream md;
-  auto progress = [](const std::string& what) { std::cerr << "flexsens study: " << what << "\n"; };
+  auto progress = [&](const std::string& what) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    std::cerr << "flexsens study [" << fmt(s, 4) << " s]: " << what << "\n";
+  };
+
+  // The mechanisms. Five-bar: the PIM paper's cases R1 / F1, output z2 [m], 2 s. Seed 000:
+  // the 3D four-bar (output the joint-4 angle z4 [rad]) and double pendulum (joint-2 angle z2),
+  // parameters m, Ix of bar 1, c, k of joint 1, 5 s, both with the trapezoidal rule and with
+  // the seed's own scheme (coordinate partitioning, RK4 at 10 ms).
+  const std::vector<std::string> fiveBarMethods = {"dd", "ad", "nd", "nd-forward"};
+  const std::vector<std::string> seedMethods = {"dd", "ad", "nd-forward"};
+  const std::vector<CostSetup> seedCost = {{"trapezoidal", 1e-3, seedMethods}, {"maggi_rk4", 1e-2, seedMethods}};
+  const Mechanism rigid{"rigid", "rigid five-bar (R1)", "R1", "z2", {"L_A1", "m_12", "m_23", "g_z"},
+                        [&](int k) { return rigidScene(src, k); }, opt.quick ? 0.5 : 2.0, 1.0,
+                        {{"trapezoidal", 1e-3, fiveBarMethods}}};
+  const Mechanism flexible{"flexible", "flexible five-bar (F1)", "F1", "z2", {"L_A1", "L_B1", "E", "g_z"},
+                           [&](int k) { return flexScene(src, k, 2); }, opt.quick ? 0.5 : 2.0, 1.0,
+                           {{"trapezoidal", 1e-3, fiveBarMethods}}};
+  const Mechanism fourBar{"four_bar", "3D four-bar (seed 000)", "", "z4", {"m", "Ix", "c", "k"},
+                          [&](int k) { return seedScene(src, "four_bar.yaml", k); }, seedT, seedT, seedCost};
+  const Mechanism pendulum{"double_pendulum", "3D double pendulum (seed 000)", "", "z2", {"m", "Ix", "c", "k"},
+                           [&](int k) { return seedScene(src, "double_pendulum.yaml", k); }, seedT, seedT, seedCost};
+  const std::vector<const Mechanism*> all = {&rigid, &flexible, &fourBar, &pendulum};
+
   md << "# flexsens speed-versus-accuracy study\n\n"
      << "Generated by `bash scripts/run-study.sh` (`flexsens study`) in one run on this machine"
-     << (opt.quick ? " (quick mode: shortened sweeps)" : "") << ". CPU times are process CPU seconds, "
-     << "best of " << reps << "; ratios are computed within this run. Model: the PIM paper's five-bar, "
-     << "output z2, case R1 (rigid) and F1 (flexible) from `examples/fivebar/`.\n\n";
+     << (opt.quick ? " (quick mode: shortened sweeps and horizons)" : "") << ". CPU times are process CPU seconds, "
+     << "best of up to " << reps << " repetitions (fewer when they take over 1.5 s together); ratios are "
+     << "computed within this run. Models: the PIM paper's five-bar, output z2 [m] (height of node 2), "
+     << "case R1 (rigid) and F1 (flexible) from `examples/fivebar/`; the seed paper's (000) 3D four-bar "
+     << "and double pendulum from `examples/seed000/`, outputs the joint angles z4 and z2 [rad], parameters "
+     << "m and Ix of bar 1, c and k of joint 1. Sensitivities of an output are its gradient times q_p "
+     << "(for nd: times the difference quotient of q).\n\n";
 
   // ---------------------------------------------------------------- 1. cost per method
-  progress("cost table");
-  md << "## 1. CPU time of dynamics and sensitivities (like seed 000, Table 1)\n\n"
-     << "Trapezoidal rule, dt = 1 ms, 2 s. `dynamics` is the run without sensitivities; "
-     << "`sensitivities` = total - dynamics; `ratio` = total / dynamics.\n\n";
+  progress("cost tables");
+  md << "## 1. CPU time of dynamics and sensitivities (like seed 000, Tables 1 and 2)\n\n"
+     << "`dynamics` is the run without sensitivities; `sensitivities` = total - dynamics; "
+     << "`sens./total` as the seed's last row; `total/dynamics` the cost factor. nd is central, "
+     << "nd-forward the seed's forward scheme, both with relative step 1e-6. Five-bar: 2 s; "
+     << "seed mechanisms: " << seedT << " s. Plot: `cost.png`.\n\n";
   std::ofstream tcsv(opt.outDir + "/cost.csv");
-  tcsv << "model,method,parameters,total_s,dynamics_s,sensitivity_s,ratio\n";
-  for (const std::string model : {"rigid", "flexible"}) {
-    auto scene = [&](int k) { return model == "rigid" ? rigidScene(src, k) : flexScene(src, k, 2); };
-    const std::string cs = model == "rigid" ? "R1" : "F1";
-    Config base;
-    base.method = "none";
-    const double dyn = runCase(scene(1), cs, base, reps).seconds;
-    md << "### " << model << " five-bar (" << cs << "), dynamics alone " << fmt(dyn * 1e3, 4) << " ms\n\n"
-       << "| method | params | total [ms] | sensitivities [ms] | total / dynamics |\n|---|---|---|---|---|\n";
-    for (const std::string method : {"dd", "ad", "nd", "nd-forward"}) {
-      for (int k = 1; k <= 4; ++k) {
-        Config c;
-        c.method = method;
-        c.ndStep = 1e-6;
-        const Result r = runCase(scene(k), cs, c, reps);
-        md << "| " << method << " | " << k << " | " << fmt(r.seconds * 1e3, 4) << " | "
-           << fmt((r.seconds - dyn) * 1e3, 4) << " | " << fmt(r.seconds / dyn, 3) << " |\n";
-        tcsv << model << "," << method << "," << k << "," << r.seconds << "," << dyn << "," << r.seconds - dyn
-             << "," << r.seconds / dyn << "\n";
-      }
+  tcsv << "model,integrator,dt,method,parameters,total_s,dynamics_s,sensitivity_s,ratio,sens_share\n";
+  for (const Mechanism* mech : all) {
+    for (const CostSetup& cs : mech->cost) {
+      const double dyn = runCase(mech->scene(1), mech->caseName, config(cs.integrator, cs.dt, "none", mech->tEnd, 0.05), reps).seconds;
+      md << "### " << mech->title << ", " << cs.integrator << " dt = " << cs.dt * 1e3 << " ms: dynamics alone "
+         << fmt(dyn * 1e3, 4) << " ms\n\n"
+         << "| parameters | method | dynamics [ms] | sensitivities [ms] | total [ms] | sens./total | total/dynamics |\n"
+         << "|---|---|---|---|---|---|---|\n";
+      for (int k = 1; k <= 4; ++k)
+        for (const std::string& method : cs.methods) {
+          const Result r = runCase(mech->scene(k), mech->caseName, config(cs.integrator, cs.dt, method, mech->tEnd, 0.05), reps);
+          md << "| " << join(mech->params, k) << " | " << method << " | " << fmt(dyn * 1e3, 4) << " | ";
+          if (!r.failure.empty()) {
+            md << "- | - | - | " << shortFailure(r.failure) << " |\n";
+            continue;
+          }
+          const double sens = r.seconds - dyn;
+          md << fmt(sens * 1e3, 4) << " | " << fmt(r.seconds * 1e3, 4) << " | " << fmt(100 * sens / r.seconds, 3)
+             << "% | " << fmt(r.seconds / dyn, 3) << " |\n";
+          tcsv << mech->key << "," << cs.integrator << "," << cs.dt << "," << method << "," << k << "," << r.seconds
+               << "," << dyn << "," << sens << "," << r.seconds / dyn << "," << sens / r.seconds << "\n";
+        }
+      md << "\n";
     }
-    md << "\n";
   }
 
   // ---------------------------------------------------- 2. error over time per method
   progress("error over time");
   md << "## 2. Error of each method over time\n\n"
      << "Against a converged reference: IDAS with analytic sensitivities at rtol = atol = 1e-10. "
-     << "Error = |dz2/dp - reference|. Plot: `error_time_rigid.png`, `error_time_flexible.png`.\n\n";
-  struct Method { std::string label; Config c; };
-  const std::vector<Method> methods = {
-      {"trapezoidal dd dt=1e-3", {"trapezoidal", 1e-3, "dd"}},
-      {"trapezoidal ad dt=1e-3", {"trapezoidal", 1e-3, "ad"}},
-      {"trapezoidal nd dt=1e-3 h=1e-6", {"trapezoidal", 1e-3, "nd", 1e-6}},
-      {"bdf1 dd dt=1e-3", {"bdf1", 1e-3, "dd"}},
-      {"idas dd rtol=1e-6", {"idas", 1e-6, "dd"}},
-      {"idas dq rtol=1e-4", {"idas", 1e-4, "dq"}},
-      {"idas nd rtol=1e-8 h=1e-6", {"idas", 1e-8, "nd", 1e-6}},
+     << "Error = |d(output)/dp - reference| for the first parameter (L_A1 for the five-bar, m for the seed "
+     << "mechanisms). Plots: `error_time_<model>.png`.\n\n";
+  struct Method {
+    std::string label;
+    Config c;
   };
-  for (const std::string model : {"rigid", "flexible"}) {
-    const std::string text = model == "rigid" ? rigidScene(src, 1) : flexScene(src, 1, 2);
-    const std::string cs = model == "rigid" ? "R1" : "F1";
-    const double tEnd = opt.quick ? 0.5 : 2.0;
-    const int z2 = z2Index(text, cs);
-    Config refc{"idas", 1e-10, "dd"};
-    refc.tEnd = tEnd;
-    const Result ref = runCase(text, cs, refc);
-    if (!ref.failure.empty()) throw NumericalError("study reference failed: " + ref.failure);
-    std::ofstream csv(opt.outDir + "/error_time_" + model + ".csv");
+  const std::vector<Method> methods = {
+      {"trapezoidal dd dt=1e-3", config("trapezoidal", 1e-3, "dd", 0, 0)},
+      {"trapezoidal ad dt=1e-3", config("trapezoidal", 1e-3, "ad", 0, 0)},
+      {"trapezoidal nd dt=1e-3 h=1e-6", config("trapezoidal", 1e-3, "nd", 0, 0)},
+      {"trapezoidal nd-forward dt=1e-3 h=1e-6", config("trapezoidal", 1e-3, "nd-forward", 0, 0)},
+      {"bdf1 dd dt=1e-3", config("bdf1", 1e-3, "dd", 0, 0)},
+      {"maggi_rk4 dd dt=1e-2", config("maggi_rk4", 1e-2, "dd", 0, 0)},
+      {"maggi_rk4 ad dt=1e-2", config("maggi_rk4", 1e-2, "ad", 0, 0)},
+      {"maggi_rk4 nd-forward dt=1e-2 h=1e-6", config("maggi_rk4", 1e-2, "nd-forward", 0, 0)},
+      {"idas dd rtol=1e-6", config("idas", 1e-6, "dd", 0, 0)},
+      {"idas dq rtol=1e-4", config("idas", 1e-4, "dq", 0, 0)},
+      {"idas nd rtol=1e-8 h=1e-6", config("idas", 1e-8, "nd", 0, 0)},
+  };
+  for (const Mechanism* mech : all) {
+    const std::string text = mech->scene(1);
+    const Probe probe(*mech, text);
+    const double frame = 0.05;
+    const Result ref = runCase(text, mech->caseName, reference(mech->tEnd, frame));
+    if (!ref.failure.empty()) throw NumericalError("study reference failed (" + mech->key + "): " + ref.failure);
+    double refMax = 0.0;
+    for (const auto& f : ref.rec.frames) refMax = std::max(refMax, std::abs(probe.sens(f)));
+    std::ofstream csv(opt.outDir + "/error_time_" + mech->key + ".csv");
     csv << "t";
     for (const auto& m : methods) csv << "," << m.label;
     csv << "\n";
     std::vector<Result> res;
-    md << "### " << model << " (" << cs << ", reference " << fmt(ref.seconds, 3) << " s CPU)\n\n"
-       << "| method | CPU [s] | max error | error at t_end | note |\n|---|---|---|---|---|\n";
     for (const auto& m : methods) {
       Config c = m.c;
-      c.tEnd = tEnd;
-      res.push_back(runCase(text, cs, c));
+      c.tEnd = mech->tEnd;
+      c.frame = frame;
+      res.push_back(runCase(text, mech->caseName, c));
     }
+    // error of method i at frame f (NaN when it has no such frame)
+    auto err = [&](size_t i, size_t f) {
+      const Result& r = res[i];
+      if (!r.failure.empty() || f >= r.rec.frames.size() || std::abs(r.rec.frames[f].x.t - ref.rec.frames[f].x.t) > 1e-9)
+        return double(NAN);
+      return std::abs(probe.sens(r.rec.frames[f]) - probe.sens(ref.rec.frames[f]));
+    };
     for (size_t f = 0; f < ref.rec.frames.size(); ++f) {
-      const double t = ref.rec.frames[f].x.t;
-      csv << t;
-      for (const auto& r : res) {
-        if (!r.failure.empty() || f >= r.rec.frames.size()) { csv << ","; continue; }
-        csv << "," << std::abs(r.rec.frames[f].dp[0].q[z2] - ref.rec.frames[f].dp[0].q[z2]);
+      csv << ref.rec.frames[f].x.t;
+      for (size_t i = 0; i < res.size(); ++i) {
+        const double e = err(i, f);
+        csv << ",";
+        if (!std::isnan(e)) csv << e;
       }
       csv << "\n";
     }
+    md << "### " << mech->title << ": d" << mech->output << "/d" << mech->params[0] << ", 0.." << mech->tEnd
+       << " s (reference " << fmt(ref.seconds, 3) << " s CPU, max |reference| " << sci(refMax) << ")\n\n"
+       << "| method | CPU [s] | max error | error at t_end | note |\n|---|---|---|---|---|\n";
     for (size_t i = 0; i < methods.size(); ++i) {
       const Result& r = res[i];
-      double worst = 0.0, last = 0.0;
-      for (size_t f = 0; f < r.rec.frames.size() && f < ref.rec.frames.size(); ++f) {
-        last = std::abs(r.rec.frames[f].dp[0].q[z2] - ref.rec.frames[f].dp[0].q[z2]);
-        worst = std::max(worst, last);
+      double worst = 0.0, last = NAN;
+      for (size_t f = 0; f < ref.rec.frames.size(); ++f) {
+        last = err(i, f);
+        if (!std::isnan(last)) worst = std::max(worst, last);
       }
-      md << "| " << methods[i].label << " | " << fmt(r.seconds, 3) << " | " << (r.failure.empty() ? sci(worst) : "-")
-         << " | " << (r.failure.empty() ? sci(last) : "-") << " | "
-         << (r.failure.empty() ? "" : "stopped: " + r.failure.substr(0, 120)) << " |\n";
+      const bool ok = r.failure.empty();
+      md << "| " << methods[i].label << " | " << fmt(r.seconds, 3) << " | " << (ok ? sci(worst) : "-") << " | "
+         << (ok ? sci(last) : "-") << " | " << (ok ? "" : shortFailure(r.failure)) << " |\n";
     }
     md << "\n";
   }
 
   // ------------------------------------------------------------- 3. work-precision
   progress("work-precision");
-  md << "## 3. Work-precision (error of dz2/dp at t = 1 s versus CPU time)\n\n"
-     << "Rigid R1 against the IDAS rtol 1e-10 reference; flexible F1 segment counts against "
-     << "N = 32 (same integrator, trapezoidal dt = 1 ms). Plot: `work_precision.png`.\n\n"
-     << "| model | integrator | setting | CPU [s] | error |\n|---|---|---|---|---|\n";
+  md << "## 3. Work-precision (error of the output and of its derivative at one time versus CPU time)\n\n"
+     << "Rigid five-bar R1 (z2, dz2/dL_A1 at t = 1 s) and four-bar (z4, dz4/dm at t = " << fourBar.tPoint
+     << " s) against IDAS at rtol = atol = 1e-12 (analytic sensitivities); flexible F1 beam segment counts "
+     << "against N = 32 (same integrator, trapezoidal dt = 1 ms). Plot: `work_precision.png`.\n\n"
+     << "| model | integrator | setting | CPU [s] | output error | sensitivity error |\n|---|---|---|---|---|---|\n";
   std::ofstream wcsv(opt.outDir + "/work_precision.csv");
-  wcsv << "model,integrator,setting,cpu_s,error\n";
-  {
-    const std::string text = rigidScene(src, 1);
-    const int z2 = z2Index(text, "R1");
-    Config refc{"idas", 1e-10, "dd"};
-    refc.tEnd = 1.0;
-    refc.frame = 0.5;
-    const double ref = runCase(text, "R1", refc).rec.at(1.0).dp[0].q[z2];
-    std::vector<std::pair<std::string, std::vector<double>>> sweeps = {
-        {"idas", opt.quick ? std::vector<double>{1e-4, 1e-6} : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9}},
-        {"trapezoidal", opt.quick ? std::vector<double>{1e-2, 1e-3} : std::vector<double>{1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4}},
-        {"bdf1", opt.quick ? std::vector<double>{1e-2, 1e-3} : std::vector<double>{1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4}}};
+  wcsv << "model,integrator,setting,t,cpu_s,error,value_error\n";
+  auto wrow = [&](const std::string& model, const std::string& integ, const std::string& set, double v, double t,
+                  const Result& r, double verr, double serr) {
+    md << "| " << model << " | " << integ << " | " << set << " | " << fmt(r.seconds, 3) << " | "
+       << (r.failure.empty() ? sci(verr) : "-") << " | " << (r.failure.empty() ? sci(serr) : shortFailure(r.failure))
+       << " |\n";
+    if (r.failure.empty()) wcsv << model << "," << integ << "," << v << "," << t << "," << r.seconds << "," << serr << "," << verr << "\n";
+  };
+  const std::vector<double> dts = opt.quick ? std::vector<double>{1e-2, 1e-3}
+                                            : std::vector<double>{1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
+  const std::vector<std::pair<std::string, std::vector<double>>> sweeps = {
+      {"idas", opt.quick ? std::vector<double>{1e-4, 1e-6}
+                         : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}},
+      {"trapezoidal", dts},
+      {"bdf1", dts},
+      {"maggi_rk4", opt.quick ? std::vector<double>{1e-2, 5e-3} : std::vector<double>{1e-2, 5e-3, 2.5e-3, 1.25e-3}}};
+  for (const Mechanism* mech : {&rigid, &fourBar}) {
+    const std::string text = mech->scene(1);
+    const Probe probe(*mech, text);
+    const double t = mech->tPoint;
+    const Result refRun = runCase(text, mech->caseName, reference(t, t / 2, 1e-12));
+    if (!refRun.failure.empty()) throw NumericalError("study reference failed (" + mech->key + "): " + refRun.failure);
+    const StateWithSens& ref = refRun.rec.at(t);
     for (const auto& [integ, values] : sweeps)
       for (double v : values) {
-        Config c{integ, v, "dd"};
-        c.tEnd = 1.0;
-        c.frame = 0.5;
-        const Result r = runCase(text, "R1", c, reps);
-        const double err = r.failure.empty() ? std::abs(r.rec.at(1.0).dp[0].q[z2] - ref) : NAN;
-        md << "| rigid | " << integ << " | " << (integ == "idas" ? "rtol " : "dt ") << v << " | " << fmt(r.seconds, 3)
-           << " | " << (r.failure.empty() ? sci(err) : "stopped") << " |\n";
-        if (r.failure.empty()) wcsv << "rigid," << integ << "," << v << "," << r.seconds << "," << err << "\n";
+        const Config c = config(integ, v, "dd", t, t / 2);
+        const Result r = runCase(text, mech->caseName, c, reps);
+        const bool ok = r.failure.empty();
+        wrow(mech->key, integ, setting(c), v, t, r, ok ? std::abs(probe.value(r.rec.at(t)) - probe.value(ref)) : NAN,
+             ok ? std::abs(probe.sens(r.rec.at(t)) - probe.sens(ref)) : NAN);
       }
-    const std::vector<int> segs = opt.quick ? std::vector<int>{2, 4} : std::vector<int>{2, 4, 8, 16};
-    Config c{"trapezoidal", 1e-3, "dd"};
-    c.tEnd = 1.0;
-    c.frame = 0.5;
-    const std::string refText = flexScene(src, 1, 32);
-    const double fref = runCase(refText, "F1", c).rec.at(1.0).dp[0].q[z2Index(refText, "F1")];
-    for (int N : segs) {
-      const std::string t = flexScene(src, 1, N);
-      const Result r = runCase(t, "F1", c, reps);
-      const double err = std::abs(r.rec.at(1.0).dp[0].q[z2Index(t, "F1")] - fref);
-      md << "| flexible | trapezoidal | N = " << N << " segments | " << fmt(r.seconds, 3) << " | " << sci(err) << " |\n";
-      wcsv << "flexible,segments," << N << "," << r.seconds << "," << err << "\n";
-    }
-    md << "\n";
   }
+  {
+    const std::vector<int> segs = opt.quick ? std::vector<int>{2, 4} : std::vector<int>{2, 4, 8, 16};
+    const Config c = config("trapezoidal", 1e-3, "dd", 1.0, 0.5);
+    const std::string refText = flexScene(src, 1, 32);
+    const StateWithSens ref = runCase(refText, "F1", c).rec.at(1.0);
+    const Probe refProbe(flexible, refText);
+    for (int N : segs) {
+      const std::string text = flexScene(src, 1, N);
+      const Probe probe(flexible, text);
+      const Result r = runCase(text, "F1", c, reps);
+      const bool ok = r.failure.empty();
+      wrow("flexible", "segments", "N = " + std::to_string(N) + " segments", N, 1.0, r,
+           ok ? std::abs(probe.value(r.rec.at(1.0)) - refProbe.value(ref)) : NAN,
+           ok ? std::abs(probe.sens(r.rec.at(1.0)) - refProbe.sens(ref)) : NAN);
+    }
+  }
+  md << "\n";
 
   // ------------------------------------------------------------------ 4. ND step sweep
   progress("nd step sweep");
   md << "## 4. Finite-difference step sweep (truncation against round-off)\n\n"
-     << "Rigid R1, t = 1 s: central and forward nd with relative step h against dd of the same "
-     << "integrator (the exact derivative of the discrete trapezoidal solution; for IDAS rtol 1e-8, "
-     << "its own dd). Plot: `nd_sweep.png`.\n\n| h | trapezoidal central | trapezoidal forward | IDAS 1e-8 central |\n|---|---|---|---|\n";
+     << "Error of nd with relative step h against dd of the same integrator and setting (for the fixed-step "
+     << "integrators the exact derivative of the discrete solution; for IDAS rtol 1e-8, its own dd): "
+     << "rigid five-bar dz2/dL_A1 at t = 1 s, four-bar dz4/dm at t = " << fourBar.tPoint << " s. "
+     << "Plot: `nd_sweep.png`.\n\n";
   std::ofstream ncsv(opt.outDir + "/nd_sweep.csv");
-  ncsv << "h,trapezoidal_central,trapezoidal_forward,idas_central\n";
-  {
-    const std::string text = rigidScene(src, 1);
-    const int z2 = z2Index(text, "R1");
-    Config dd{"trapezoidal", 1e-3, "dd"};
-    dd.tEnd = 1.0;
-    dd.frame = 0.5;
-    const double exact = runCase(text, "R1", dd).rec.at(1.0).dp[0].q[z2];
-    Config idd{"idas", 1e-8, "dd"};
-    idd.tEnd = 1.0;
-    idd.frame = 0.5;
-    const double iexact = runCase(text, "R1", idd).rec.at(1.0).dp[0].q[z2];
+  const std::vector<Method> schemes = {{"trapezoidal central", config("trapezoidal", 1e-3, "nd", 0, 0)},
+                                       {"trapezoidal forward", config("trapezoidal", 1e-3, "nd-forward", 0, 0)},
+                                       {"IDAS 1e-8 central", config("idas", 1e-8, "nd", 0, 0)},
+                                       {"maggi_rk4 10 ms forward", config("maggi_rk4", 1e-2, "nd-forward", 0, 0)}};
+  ncsv << "model,t,h";
+  for (const auto& s : schemes) ncsv << "," << s.label;
+  ncsv << "\n";
+  for (const Mechanism* mech : {&rigid, &fourBar}) {
+    const std::string text = mech->scene(1);
+    const Probe probe(*mech, text);
+    const double t = mech->tPoint;
+    std::vector<double> exact;  // dd of each scheme's integrator and setting
+    for (const auto& s : schemes) {
+      const Result r = runCase(text, mech->caseName, config(s.c.integrator, s.c.dtOrTol, "dd", t, t / 2));
+      exact.push_back(r.failure.empty() ? probe.sens(r.rec.at(t)) : NAN);
+    }
+    md << "### " << mech->title << "\n\n| h |";
+    for (const auto& s : schemes) md << " " << s.label << " |";
+    md << "\n|---|";
+    for (size_t i = 0; i < schemes.size(); ++i) md << "---|";
+    md << "\n";
     const int lo = opt.quick ? 6 : 12;
     for (int e = 1; e <= lo; ++e) {
       const double h = std::pow(10.0, -e);
-      double errs[3];
-      int i = 0;
-      for (const auto& [integ, method] : std::vector<std::pair<std::string, std::string>>{
-               {"trapezoidal", "nd"}, {"trapezoidal", "nd-forward"}, {"idas", "nd"}}) {
-        Config c{integ, integ == "idas" ? 1e-8 : 1e-3, method, h};
-        c.tEnd = 1.0;
-        c.frame = 0.5;
-        const Result r = runCase(text, "R1", c);
-        errs[i++] = r.failure.empty() ? std::abs(r.rec.at(1.0).dp[0].q[z2] - (integ == "idas" ? iexact : exact)) : NAN;
+      md << "| 1e-" << e << " |";
+      ncsv << mech->key << "," << t << "," << h;
+      for (size_t i = 0; i < schemes.size(); ++i) {
+        const Config c = config(schemes[i].c.integrator, schemes[i].c.dtOrTol, schemes[i].c.method, t, t / 2, h);
+        const Result r = runCase(text, mech->caseName, c);
+        const double err = r.failure.empty() ? std::abs(probe.sens(r.rec.at(t)) - exact[i]) : NAN;
+        md << " " << sci(err) << " |";
+        ncsv << ",";
+        if (!std::isnan(err)) ncsv << err;
       }
-      md << "| 1e-" << e << " | " << sci(errs[0]) << " | " << sci(errs[1]) << " | " << sci(errs[2]) << " |\n";
-      ncsv << h << "," << errs[0] << "," << errs[1] << "," << errs[2] << "\n";
+      md << "\n";
+      ncsv << "\n";
     }
     md << "\n";
   }
-  md << "## Plots\n\n![error over time, rigid](error_time_rigid.png)\n\n![error over time, flexible](error_time_flexible.png)\n\n"
-     << "![work-precision](work_precision.png)\n\n![nd step sweep](nd_sweep.png)\n";
+
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  progress("done");
+  md << "## Plots\n\n![cost](cost.png)\n\n";
+  for (const Mechanism* mech : all)
+    md << "![error over time, " << mech->title << "](error_time_" << mech->key << ".png)\n\n";
+  md << "![work-precision](work_precision.png)\n\n![nd step sweep](nd_sweep.png)\n\n"
+     << "This run took " << fmt(wall, 4) << " s wall clock, " << fmt(cpu, 4) << " s CPU.\n";
   const std::string report = opt.outDir + "/study.md";
   std::ofstream(report) << md.str();
   return report;

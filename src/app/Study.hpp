@@ -1,6 +1,7 @@
 // The speed-versus-accuracy study (`flexsens study`): one run on this machine measures CPU
 // time and error of every sensitivity method and integrator on the rigid and flexible
-// five-bar, and writes a markdown report with CSV data (PNG plots by scripts/plot_study.py).
+// five-bar and on the seed paper's (000) 3D four-bar and double pendulum, and writes a
+// markdown report with CSV data (PNG plots by scripts/plot_study.py).
 #pragma once
 
 #include <string>

@@ -1,5 +1,7 @@
 #include "output/ResultWriter.hpp"
 
+#include "elements/JointAngle.hpp"
+
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkIntArray.h>
@@ -9,6 +11,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +32,36 @@ int axis3(const Model& m, int c) {
   return a == 'x' ? 0 : (a == 'y' ? 1 : 2);
 }
 }  // namespace
+
+namespace {
+/// The 18 coordinates of an angle's six nodes (ground nodes at their fixed positions), from
+/// positions q; with zeroGround, ground nodes contribute 0 (for a direction dq).
+VecX angleCoordinates(const Model& m, const std::vector<int>& nodes, const VecX& q, bool zeroGround) {
+  VecX x(3 * nodes.size());
+  for (size_t a = 0; a < nodes.size(); ++a)
+    for (int c = 0; c < 3; ++c) {
+      const int d = m.dof(nodes[a], c);
+      x[3 * a + c] = d >= 0 ? q[d] : (zeroGround ? 0.0 : m.nodes[nodes[a]].position[c]);
+    }
+  return x;
+}
+}  // namespace
+
+double OutputSpec::value(const Model& m, const VecX& q) const {
+  if (!angle.empty()) return jointAngleT<double>(angleCoordinates(m, angle, q, false), nullptr);
+  const int d = m.dof(node, component);
+  return d < 0 ? m.nodes[node].position[component] : q[d];
+}
+
+double OutputSpec::derivative(const Model& m, const VecX& q, const VecX& dq) const {
+  if (!angle.empty()) {
+    VecX g;
+    jointAngleT<double>(angleCoordinates(m, angle, q, false), &g);
+    return g.dot(angleCoordinates(m, angle, dq, true));
+  }
+  const int d = m.dof(node, component);
+  return d < 0 ? 0.0 : dq[d];
+}
 
 std::string jsonString(const std::string& s) {
   std::string r = "\"";
@@ -69,14 +102,10 @@ void ResultWriter::frame(const StateWithSens& s) {
   for (const auto* v : {&s.x.q, &s.x.v})
     if (!v->allFinite())
       throw NumericalError("non-finite state at t = " + std::to_string(s.x.t) + " s; nothing written for it");
-  auto value = [&](const VecX& q, const OutputSpec& o) {
-    const int d = m.dof(o.node, o.component);
-    return d < 0 ? (&q == &s.x.q ? m.nodes[o.node].position[o.component] : 0.0) : q[d];
-  };
   lastRow_.assign(1, s.x.t);
-  for (const auto& o : scene_.outputs) lastRow_.push_back(value(s.x.q, o));
+  for (const auto& o : scene_.outputs) lastRow_.push_back(o.value(m, s.x.q));
   for (const auto& o : scene_.outputs)
-    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(value(s.dp[k].q, o));
+    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(o.derivative(m, s.x.q, s.dp[k].q));
   for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
   csv_ << "\n";
   times_.push_back(s.x.t);
@@ -132,16 +161,24 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& path) con
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(pts);
   vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body
   id->SetName("element_id");
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
-    if (el.nodes().size() != 2) continue;  // beam hinges share the segments' lines
-    vtkIdType ids[2] = {el.nodes()[0], el.nodes()[1]};
-    grid->InsertNextCell(VTK_LINE, 2, ids);
     const std::string k = el.kind();
-    kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3 : 0);
-    id->InsertNextValue(static_cast<int>(e));
+    // Two-node elements are lines; a rigid body shows its basic frame (A-B, A-C, A-D);
+    // beam hinges and rotational springs share the lines of the elements they join.
+    std::vector<std::array<int, 2>> lines;
+    if (el.nodes().size() == 2) lines.push_back({el.nodes()[0], el.nodes()[1]});
+    if (k == "rigid_body")
+      for (int j = 1; j < 4; ++j) lines.push_back({el.nodes()[0], el.nodes()[j]});
+    for (const auto& l : lines) {
+      vtkIdType ids[2] = {l[0], l[1]};
+      grid->InsertNextCell(VTK_LINE, 2, ids);
+      kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3
+                                                  : k == "rigid_body" ? 4 : 0);
+      id->InsertNextValue(static_cast<int>(e));
+    }
   }
   grid->GetCellData()->AddArray(kind);
   grid->GetCellData()->AddArray(id);

@@ -11,11 +11,16 @@
 
 namespace flexsens {
 
-/// A named scalar output: one coordinate component of one node.
+/// A named scalar output: one coordinate component of one node, or (angle) the signed angle
+/// of elements/JointAngle.hpp on six nodes [rad].
 struct OutputSpec {
   std::string name;
   int node = -1;
   int component = 0;
+  std::vector<int> angle;  ///< axis from/to, from-vector from/to, to-vector from/to (empty: coordinate)
+  /// Value at positions q, and its derivative along dq (the sensitivity column: grad . q_p).
+  double value(const Model& m, const VecX& q) const;
+  double derivative(const Model& m, const VecX& q, const VecX& dq) const;
 };
 
 /// How sensitivities are computed (the speed-versus-accuracy choice).

@@ -7,9 +7,13 @@
 #include <set>
 #include <sstream>
 
+#include "constraints/Bilinear.hpp"
 #include "constraints/Distance.hpp"
 #include "elements/Beam.hpp"
+#include "elements/BeamHinge3D.hpp"
 #include "elements/RigidBar.hpp"
+#include "elements/RigidBody.hpp"
+#include "elements/RotationalSpring.hpp"
 #include "pim/Rigidization.hpp"
 #include "scene/Scene.hpp"
 #include "scene/YamlReader.hpp"
@@ -81,6 +85,7 @@ class Builder {
       node.ground = nd["ground"] ? r_.boolean(nd["ground"], path + ".ground") : false;
       if (node.ground && node.velocity.norm() > 0)
         r_.fail(nd["velocity"], path + ".velocity", "a ground node cannot have a velocity");
+      if (nd["velocity"]) velocitySetBy_[static_cast<int>(m.nodes.size())] = path + ".velocity";
       nodeIndex_[node.name] = static_cast<int>(m.nodes.size());
       m.nodes.push_back(node);
     }
@@ -94,7 +99,7 @@ class Builder {
   }
 
   std::vector<int> nodeList(const YAML::Node& item, const std::string& path, size_t minCount,
-                            size_t maxCount) const {
+                            size_t maxCount, bool allowRepeat = false) const {
     const YAML::Node list = r_.require(item, "nodes", path);
     const std::string p = path + ".nodes";
     if (!list.IsSequence() || list.size() < minCount || list.size() > maxCount)
@@ -104,7 +109,7 @@ class Builder {
     std::set<int> seen;
     for (size_t i = 0; i < list.size(); ++i) {
       ids.push_back(node(list[i], at(p, i)));
-      if (!seen.insert(ids.back()).second) r_.fail(list[i], at(p, i), "the same node appears twice");
+      if (!seen.insert(ids.back()).second && !allowRepeat) r_.fail(list[i], at(p, i), "the same node appears twice");
     }
     return ids;
   }
@@ -166,17 +171,158 @@ class Builder {
         m.elements.push_back(std::move(sp));
       } else if (type == "beam") {
         readBeam(el, path, name, m);
+      } else if (type == "rigid_body") {
+        readRigidBody(el, path, name, m);
+      } else if (type == "rotational_spring_damper") {
+        readRotationalSpring(el, path, name, m);
       } else {
         r_.fail(el["type"], path + ".type", "unknown element type '" + type +
-                                               "'; expected rigid_bar, spring_damper or beam");
+                                               "'; expected rigid_bar, spring_damper, beam, rigid_body or "
+                                               "rotational_spring_damper");
       }
     }
   }
 
+  // ------------------------------------------------------------ rigid bodies (3D)
+  /// Nodes at fixed distances already: both ground, or both on one earlier rigid body.
+  bool linked(int a, int b) const {
+    if (model_->nodes[a].ground && model_->nodes[b].ground) return true;
+    for (const auto& [name, body] : rigidBodies_)
+      if (body.members.count(a) && body.members.count(b)) return true;
+    return false;
+  }
+
+  void requireSpatial(const YAML::Node& el, const std::string& path, const Model& m, const std::string& what) {
+    if (m.dim != 3) r_.fail(el["type"], path + ".type", what + " needs a spatial scene (dimension 3)");
+  }
+
+  void readRigidBody(const YAML::Node& el, const std::string& path, const std::string& name, Model& m) {
+    r_.allowKeys(el, path, {"name", "type", "nodes", "mass", "center_of_mass", "inertia", "velocity",
+                            "angular_velocity"});
+    requireSpatial(el, path, m, "a rigid body");
+    model_ = &m;
+    const auto ids = nodeList(el, path, 4, 100000);
+    const Quantity mass{r_.positive(r_.require(el, "mass", path), path + ".mass"), -1};
+    const Eigen::Vector3d com = r_.vector(r_.require(el, "center_of_mass", path), path + ".center_of_mass", 3);
+    // Inertia about the centre of mass, global axes at t = 0: [Ixx, Iyy, Izz] (principal,
+    // along x, y, z) or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (tensor entries, Ixy = -int x y dm).
+    const YAML::Node in = r_.require(el, "inertia", path);
+    const std::string ip = path + ".inertia";
+    if (!in.IsSequence() || (in.size() != 3 && in.size() != 6))
+      r_.fail(in, ip, "expected [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2");
+    std::array<Quantity, 6> inertia;
+    for (size_t i = 0; i < in.size(); ++i) inertia[i] = {r_.number(in[i], at(ip, i)), -1};
+    Eigen::Matrix3d I;
+    I << inertia[0].constant, inertia[3].constant, inertia[4].constant, inertia[3].constant,
+        inertia[1].constant, inertia[5].constant, inertia[4].constant, inertia[5].constant, inertia[2].constant;
+    const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(RigidBody::secondMoments(I)).eigenvalues();
+    if (!(moments.minCoeff() >= -1e-12 * I.norm()) || !(I.diagonal().minCoeff() > 0))
+      r_.fail(in, ip, "not an inertia tensor of a physical body: the moments must be positive and satisfy "
+                      "the triangle inequalities (Ixx <= Iyy + Izz, ...)");
+    RigidizeOptions opt;
+    opt.inOrder = true;
+    opt.linked = [this](int a, int b) { return linked(a, b); };
+    Rigidization R = rigidize(name, ids, m, positions(m), r_.file() + ":" + std::to_string(el.Mark().line + 1) +
+                                                             ": key '" + path + ".nodes'", nullptr, opt);
+    if (R.cloudDimension < 3)
+      r_.fail(el["nodes"], path + ".nodes", "the nodes of rigid body '" + name + "' are coplanar (" +
+                                                std::to_string(R.cloudDimension) + "D cloud); a 3D rigid body "
+                                                "needs four non-coplanar basic points: add a point off their plane");
+    Eigen::Matrix<double, 3, 4> X0;
+    for (int k = 0; k < 4; ++k) X0.col(k) = m.nodes[R.basicPoints[k]].position;
+    auto body = std::make_unique<RigidBody>(name, R.basicPoints, X0, mass, com, inertia);
+    for (auto& [k, q] : body->properties()) bind(name + "." + k, q);
+    m.elements.push_back(std::move(body));
+    for (auto& c : R.constraints) m.constraints.push_back(std::move(c));
+    RigidBodyInfo info;
+    info.basic = R.basicPoints;
+    info.X0 = X0;
+    info.com = com;
+    info.members.insert(ids.begin(), ids.end());
+    rigidBodies_[name] = info;
+    // Initial twist: v = v_G + omega x (r - r_G) on every node of the body.
+    if (el["velocity"] || el["angular_velocity"]) {
+      const Eigen::Vector3d vG = el["velocity"] ? r_.vector(el["velocity"], path + ".velocity", 3) : VecX::Zero(3);
+      const Eigen::Vector3d w = el["angular_velocity"] ? r_.vector(el["angular_velocity"], path + ".angular_velocity", 3)
+                                                       : VecX::Zero(3);
+      for (int id : ids) {
+        Node& nd = m.nodes[id];
+        const Eigen::Vector3d v = vG + w.cross(Eigen::Vector3d(nd.position) - com);
+        if (nd.ground) {
+          if (v.norm() > 1e-12) r_.fail(el["angular_velocity"] ? el["angular_velocity"] : el["velocity"], path,
+                                        "gives ground node '" + nd.name + "' a velocity; a body hinged to the "
+                                        "ground turns about an axis through its ground nodes");
+          continue;
+        }
+        setVelocity(id, v, el, path, m);
+      }
+    }
+  }
+
+  /// Sets the initial velocity of a node, failing if another item gave it a different one.
+  void setVelocity(int id, const Eigen::Vector3d& v, const YAML::Node& item, const std::string& path, Model& m) {
+    Node& nd = m.nodes[id];
+    auto it = velocitySetBy_.find(id);
+    if (it != velocitySetBy_.end() && (Eigen::Vector3d(nd.velocity) - v).norm() > 1e-9 * std::max(1.0, v.norm()))
+      r_.fail(item, path, "gives node '" + nd.name + "' an initial velocity that differs from the one " +
+                              it->second + " gives it; the bodies sharing a node must move consistently");
+    nd.velocity = v;
+    velocitySetBy_[id] = path;
+  }
+
+  AngleNodes angleNodes(const YAML::Node& item, const std::string& path) const {
+    auto pair = [&](const char* key) {
+      const YAML::Node n = r_.require(item, key, path);
+      if (!n.IsSequence() || n.size() != 2) r_.fail(n, path + "." + key, "expected a list of two node names [from, to]");
+      return std::make_pair(node(n[0], path + "." + key + "[0]"), node(n[1], path + "." + key + "[1]"));
+    };
+    const auto a = pair("axis"), f = pair("from"), t = pair("to");
+    return {a.first, a.second, f.first, f.second, t.first, t.second};
+  }
+
+  /// The angle of `nodes` at the initial positions; fails where it is undefined.
+  double initialAngle(const AngleNodes& an, const YAML::Node& item, const std::string& path, const Model& m) const {
+    VecX x(18);
+    const auto list = an.list();
+    for (int a = 0; a < 6; ++a) x.segment<3>(3 * a) = m.nodes[list[a]].position;
+    const Eigen::Vector3d n = x.segment<3>(3) - x.segment<3>(0);
+    const Eigen::Vector3d u = n.normalized();
+    auto perp = [&](const Eigen::Vector3d& w) { return (w - u * u.dot(w)).norm(); };
+    if (!(n.norm() > 0) || !(perp(x.segment<3>(9) - x.segment<3>(6)) > 1e-9) ||
+        !(perp(x.segment<3>(15) - x.segment<3>(12)) > 1e-9))
+      r_.fail(item, path, "the angle is undefined at the initial positions: the axis nodes coincide or a "
+                          "vector is parallel to the axis");
+    return jointAngleT<double>(x, nullptr);
+  }
+
+  void readRotationalSpring(const YAML::Node& el, const std::string& path, const std::string& name, Model& m) {
+    r_.allowKeys(el, path, {"name", "type", "axis", "from", "to", "stiffness", "damping", "rest_angle"});
+    requireSpatial(el, path, m, "a rotational spring-damper");
+    const AngleNodes an = angleNodes(el, path);
+    const Quantity k{r_.nonNegative(r_.require(el, "stiffness", path), path + ".stiffness"), -1};
+    const Quantity c{el["damping"] ? r_.nonNegative(el["damping"], path + ".damping") : 0.0, -1};
+    const double theta = initialAngle(an, el, path, m);
+    const double rest = (!el["rest_angle"] || r_.isAuto(el["rest_angle"])) ? theta
+                                                                           : r_.number(el["rest_angle"], path + ".rest_angle");
+    auto sp = std::make_unique<RotationalSpringDamper>(name, an, k, c, rest);
+    for (auto& [key, q] : sp->properties()) bind(name + "." + key, q);
+    m.elements.push_back(std::move(sp));
+  }
+
   void readBeam(const YAML::Node& el, const std::string& path, const std::string& name, Model& m) {
-    r_.allowKeys(el, path, {"name", "type", "nodes", "E", "density", "section"});
-    if (m.dim != 2) r_.fail(el["type"], path + ".type", "the beam element is planar for now (dimension 2)");
+    r_.allowKeys(el, path, {"name", "type", "nodes", "E", "density", "section", "rest_shape"});
     const auto ids = nodeList(el, path, 2, 100000);
+    // rest_shape: initial (default; rest = initial positions) or straight (rest segment lengths
+    // = initial ones, zero rest curvature).
+    bool straightRest = false;
+    if (el["rest_shape"]) {
+      const std::string rs = r_.text(el["rest_shape"], path + ".rest_shape");
+      if (rs == "straight") straightRest = true;
+      else if (rs != "initial")
+        r_.fail(el["rest_shape"], path + ".rest_shape",
+                "expected initial (the rest shape is the initial positions) or straight (rest "
+                "segment lengths from the initial positions, zero rest curvature); got '" + rs + "'");
+    }
     auto sec = std::make_shared<BeamSection>();
     sec->E = {r_.positive(r_.require(el, "E", path), path + ".E"), -1};
     sec->density = {r_.positive(r_.require(el, "density", path), path + ".density"), -1};
@@ -199,11 +345,26 @@ class Builder {
       m.elements.push_back(std::make_unique<BeamSegment>(name + ".segment" + std::to_string(j),
                                                          std::vector<int>{ids[j], ids[j + 1]}, sec, L));
     }
+    // Hinges: planar BeamHinge (dim 2) or spatial BeamHinge3D (dim 3). Rest positions of the
+    // three nodes: initial, or (straight) along the first axis with the initial segment lengths.
+    const int d = m.dim;
     for (size_t j = 1; j + 1 < ids.size(); ++j) {
-      VecX rest(6);
-      rest << m.nodes[ids[j - 1]].position, m.nodes[ids[j]].position, m.nodes[ids[j + 1]].position;
-      m.elements.push_back(std::make_unique<BeamHinge>(name + ".hinge" + std::to_string(j),
-                                                       std::vector<int>{ids[j - 1], ids[j], ids[j + 1]}, sec, rest));
+      const std::vector<int> nd{ids[j - 1], ids[j], ids[j + 1]};
+      VecX rest = VecX::Zero(3 * d);
+      if (straightRest) {
+        const double L1 = distance(m, nd[0], nd[1]), L2 = distance(m, nd[1], nd[2]);
+        rest[d] = L1;
+        rest[2 * d] = L1 + L2;
+      } else {
+        rest << m.nodes[nd[0]].position, m.nodes[nd[1]].position, m.nodes[nd[2]].position;
+      }
+      const std::string hn = name + ".hinge" + std::to_string(j);
+      try {
+        if (d == 2) m.elements.push_back(std::make_unique<BeamHinge>(hn, nd, sec, rest));
+        else m.elements.push_back(std::make_unique<BeamHinge3D>(hn, nd, sec, rest));
+      } catch (const std::invalid_argument& e) {  // e.g. a rest shape folded back at node j
+        r_.fail(el["nodes"][j], at(path + ".nodes", j), std::string(e.what()) + "; expected a rest shape that does not turn by 180 degrees (or rest_shape: straight)");
+      }
     }
   }
 
@@ -229,9 +390,58 @@ class Builder {
         if (m.nodes[id].ground) r_.fail(c["node"], path + ".node", "node '" + m.nodes[id].name + "' is a ground node already");
         const VecX pos = c["position"] ? r_.vector(c["position"], path + ".position", m.dim) : m.nodes[id].position;
         m.constraints.push_back(std::make_unique<FixedNodeConstraint>(name, id, pos));
+      } else if (type == "spherical") {
+        r_.allowKeys(c, path, {"name", "type", "nodes"});
+        const auto ids = nodeList(c, path, 2, 2);
+        if (distance(m, ids[0], ids[1]) > 1e-9)
+          r_.fail(c["nodes"], path + ".nodes", "a spherical joint joins coincident points; these are " +
+                                                   std::to_string(distance(m, ids[0], ids[1])) + " m apart");
+        m.constraints.push_back(std::make_unique<AttachedPointConstraint>(name, ids, VecX(), m.dim));
+      } else if (type == "perpendicular") {
+        r_.allowKeys(c, path, {"name", "type", "nodes", "value"});
+        const auto ids = nodeList(c, path, 4, 4, true);  // [a, b, c, d]: a = c is common
+        const VecX e1 = m.nodes[ids[1]].position - m.nodes[ids[0]].position;
+        const VecX e2 = m.nodes[ids[3]].position - m.nodes[ids[2]].position;
+        const double c0 = (!c["value"] || r_.isAuto(c["value"])) ? e1.dot(e2) : r_.number(c["value"], path + ".value");
+        if (m.dim != 3) r_.fail(c["type"], path + ".type", "perpendicular needs a spatial scene (dimension 3)");
+        m.constraints.push_back(BilinearConstraint::perpendicular(name, ids, c0));
+      } else if (type == "point_on_plane") {
+        readPointOnPlane(c, path, name, m);
       } else {
-        r_.fail(c["type"], path + ".type", "unknown constraint type '" + type + "'; expected distance or fixed");
+        r_.fail(c["type"], path + ".type", "unknown constraint type '" + type +
+                                               "'; expected distance, fixed, spherical, perpendicular or point_on_plane");
       }
+    }
+  }
+
+  /// Nodes kept on a plane fixed to a rigid body (or to space): one constraint per node.
+  /// Nodes of the plane's own body are skipped: their distance to the plane is fixed already.
+  void readPointOnPlane(const YAML::Node& c, const std::string& path, const std::string& name, Model& m) {
+    r_.allowKeys(c, path, {"name", "type", "nodes", "body", "point", "normal"});
+    if (m.dim != 3) r_.fail(c["type"], path + ".type", "point_on_plane needs a spatial scene (dimension 3)");
+    const auto ids = nodeList(c, path, 1, 100000);
+    const Eigen::Vector3d origin = r_.vector(r_.require(c, "point", path), path + ".point", 3);
+    const Eigen::Vector3d normal = r_.vector(r_.require(c, "normal", path), path + ".normal", 3);
+    if (!(normal.norm() > 0)) r_.fail(c["normal"], path + ".normal", "expected a non-zero normal vector");
+    const RigidBodyInfo* body = nullptr;
+    if (c["body"]) {
+      const std::string b = r_.text(c["body"], path + ".body");
+      auto it = rigidBodies_.find(b);
+      if (it == rigidBodies_.end()) r_.fail(c["body"], path + ".body", "no rigid_body named '" + b + "' (defined before this constraint)");
+      body = &it->second;
+    }
+    for (size_t i = 0; i < ids.size(); ++i) {
+      const Node& nd = m.nodes[ids[i]];
+      const double off = normal.normalized().dot(Eigen::Vector3d(nd.position) - origin);
+      if (std::abs(off) > 1e-9 * std::max(1.0, origin.norm()))
+        r_.fail(c["nodes"][i], at(path + ".nodes", i), "node '" + nd.name + "' is " + std::to_string(off) +
+                                                            " m off the plane at t = 0");
+      if (nd.ground || (body && body->members.count(ids[i]))) continue;
+      const std::string cn = ids.size() == 1 ? name : name + "[" + nd.name + "]";
+      if (body)
+        m.constraints.push_back(BilinearConstraint::pointOnBodyPlane(cn, body->basic, body->X0, ids[i], origin, normal));
+      else
+        m.constraints.push_back(BilinearConstraint::pointOnFixedPlane(cn, ids[i], origin, normal));
     }
   }
 
@@ -390,9 +600,51 @@ class Builder {
   }
 
   std::unique_ptr<Sdof> readSdof(const YAML::Node& z, const std::string& path, const Model& m) {
-    r_.allowKeys(z, path, {"node", "component", "angle", "combination", "dp", "dv", "name"});
+    r_.allowKeys(z, path, {"node", "component", "angle", "combination", "center_of_mass", "rotation", "axis",
+                           "dp", "dv", "name"});
+    {
+      int kinds = 0;
+      for (const char* k : {"node", "angle", "combination", "center_of_mass", "rotation"}) kinds += z[k] ? 1 : 0;
+      if (kinds > 1)
+        r_.fail(z, path, "give one SDOF kind: node (with component), angle, combination, center_of_mass "
+                         "(with component) or rotation (with axis)");
+      if (z["axis"] && !z["rotation"]) r_.fail(z["axis"], path + ".axis", "axis belongs to a rotation SDOF (rotation: <rigid body>)");
+      if (z["component"] && (z["rotation"] || z["angle"] || z["combination"]))
+        r_.fail(z["component"], path + ".component", "component belongs to node and center_of_mass SDOFs");
+    }
     std::unique_ptr<Sdof> out;
-    if (z["angle"]) {
+    if (z["center_of_mass"] || z["rotation"]) {
+      const bool com = static_cast<bool>(z["center_of_mass"]);
+      const std::string key = com ? "center_of_mass" : "rotation";
+      const YAML::Node bn = z[key];
+      const std::string b = r_.text(bn, path + "." + key);
+      auto it = rigidBodies_.find(b);
+      if (it == rigidBodies_.end()) {
+        std::string avail;
+        for (const auto& [k, v] : rigidBodies_) avail += (avail.empty() ? "" : ", ") + k;
+        r_.fail(bn, path + "." + key, "no rigid_body named '" + b + "'; expected the name of a rigid body of the scene (" +
+                                          (avail.empty() ? std::string("the scene has none") : "the scene has: " + avail) + ")");
+      }
+      const RigidBodyInfo& body = it->second;
+      const std::array<int, 4> basic{body.basic[0], body.basic[1], body.basic[2], body.basic[3]};
+      if (com) {
+        const int c = component(r_.require(z, "component", path), path + ".component", m);
+        auto s = centerOfMassSdof(basic, body.X0, body.com, c);
+        s->name = "com." + std::string(1, m.axisName(c)) + "(" + b + ")";
+        out = std::move(s);
+      } else {
+        const YAML::Node an = r_.require(z, "axis", path);
+        const std::string a = r_.text(an, path + ".axis");
+        static const char* angleNames[3] = {"roll", "pitch", "yaw"};
+        int axis = -1;
+        for (int c = 0; c < 3; ++c)
+          if (a.size() == 1 && a[0] == "xyz"[c]) axis = c;
+        if (axis < 0) r_.fail(an, path + ".axis", "expected x (roll), y (pitch) or z (yaw); got '" + a + "'");
+        auto s = std::make_unique<BodyRotationSdof>(basic, body.X0, axis);
+        s->name = std::string(angleNames[axis]) + "(" + b + ")";
+        out = std::move(s);
+      }
+    } else if (z["angle"]) {
       if (m.dim != 2) r_.fail(z["angle"], path + ".angle", "segment angles are planar SDOFs (dimension 2)");
       const YAML::Node a = z["angle"];
       if (!a.IsSequence() || a.size() != 2) r_.fail(a, path + ".angle", "expected a list of two node names [from, to]");
@@ -441,8 +693,8 @@ class Builder {
     r_.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
                                     "max_newton_iterations", "frame_interval", "sensitivity_error_control"});
     s.type = r_.text(r_.require(in, "type", "integrator"), "integrator.type");
-    if (s.type != "idas" && s.type != "trapezoidal" && s.type != "bdf1")
-      r_.fail(in["type"], "integrator.type", "expected idas, trapezoidal or bdf1, got '" + s.type + "'");
+    if (s.type != "idas" && s.type != "trapezoidal" && s.type != "bdf1" && s.type != "maggi_rk4")
+      r_.fail(in["type"], "integrator.type", "expected idas, trapezoidal, bdf1 or maggi_rk4, got '" + s.type + "'");
     s.tEnd = r_.positive(r_.require(in, "t_end", "integrator"), "integrator.t_end");
     if (in["dt"]) s.dt = r_.positive(in["dt"], "integrator.dt");
     else if (s.type != "idas") r_.require(in, "dt", "integrator");
@@ -466,11 +718,21 @@ class Builder {
     for (size_t i = 0; i < list.size(); ++i) {
       const YAML::Node o = list[i];
       const std::string path = at("outputs", i);
-      r_.allowKeys(o, path, {"name", "node", "component"});
+      r_.allowKeys(o, path, {"name", "node", "component", "angle"});
       OutputSpec spec;
       spec.name = r_.text(r_.require(o, "name", path), path + ".name");
       for (const auto& other : sc.outputs)
         if (other.name == spec.name) r_.fail(o["name"], path + ".name", "duplicate output name '" + spec.name + "'");
+      if (o["angle"]) {  // signed angle [rad] from-vector -> to-vector about the axis
+        if (o["node"] || o["component"]) r_.fail(o, path, "give either angle or node and component, not both");
+        if (m.dim != 3) r_.fail(o["angle"], path + ".angle", "angle outputs need a spatial scene (dimension 3)");
+        r_.allowKeys(o["angle"], path + ".angle", {"axis", "from", "to"});
+        const AngleNodes an = angleNodes(o["angle"], path + ".angle");
+        initialAngle(an, o["angle"], path + ".angle", m);
+        spec.angle = an.list();
+        sc.outputs.push_back(spec);
+        continue;
+      }
       spec.node = node(r_.require(o, "node", path), path + ".node");
       const std::string comp = r_.text(r_.require(o, "component", path), path + ".component");
       spec.component = -1;
@@ -495,6 +757,15 @@ class Builder {
   }
 
   struct Body { std::vector<int> nodes; const Quantity* pairLength; };
+  struct RigidBodyInfo {
+    std::vector<int> basic;            ///< the four basic points
+    Eigen::Matrix<double, 3, 4> X0;    ///< their initial positions
+    Eigen::Vector3d com;               ///< centre of mass at t = 0 [m]
+    std::set<int> members;             ///< every node of the body
+  };
+  std::map<std::string, RigidBodyInfo> rigidBodies_;
+  std::map<int, std::string> velocitySetBy_;  ///< node -> key path that set its initial velocity
+  const Model* model_ = nullptr;
   YamlReader r_;
   std::string caseName_, casePath_, caseParamPath_;
   std::set<std::string> caseParams_, allParams_;

@@ -1,0 +1,79 @@
+#include "constraints/Bilinear.hpp"
+
+#include "elements/AutoDiff.hpp"
+
+namespace flexsens {
+
+template <class T>
+VecT<T> BilinearConstraint::phiT(const VecT<T>& x, const VecT<T>&) const {
+  VecT<T> a = N_.cast<T>() * x, b = W_.cast<T>() * x;
+  for (int i = 0; i < 3; ++i) {
+    a[i] += a0_[i];
+    b[i] += b0_[i];
+  }
+  VecT<T> out(1);
+  out[0] = a.dot(b) - c0_;
+  return out;
+}
+
+void BilinearConstraint::phi(const LocalState& s, VecX& out) const { out = phiT<double>(s.x, VecX()); }
+
+void BilinearConstraint::jacobian(const LocalState& s, MatX& J) const {
+  // d/dx [(N x + a0) . (W x + b0)] = (W x + b0)^T N + (N x + a0)^T W
+  J = (W_ * s.x + b0_).transpose() * N_ + (N_ * s.x + a0_).transpose() * W_;
+}
+
+void BilinearConstraint::jacobianAD(const LocalState& s, MatX& J) const {
+  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX());
+}
+
+void BilinearConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
+  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX(), r);
+}
+
+std::unique_ptr<BilinearConstraint> BilinearConstraint::perpendicular(std::string name, std::vector<int> nodes,
+                                                                      double c0) {
+  MatX N = MatX::Zero(3, 12), W = MatX::Zero(3, 12);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  N.block<3, 3>(0, 0) = -I;
+  N.block<3, 3>(0, 3) = I;
+  W.block<3, 3>(0, 6) = -I;
+  W.block<3, 3>(0, 9) = I;
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  return std::make_unique<BilinearConstraint>(std::move(name), "perpendicular", std::move(nodes), N, zero, W,
+                                              zero, c0);
+}
+
+std::unique_ptr<BilinearConstraint> BilinearConstraint::pointOnBodyPlane(
+    std::string name, const std::vector<int>& basic, const Eigen::Matrix<double, 3, 4>& X0, int point,
+    const Eigen::Vector3d& origin, const Eigen::Vector3d& normal) {
+  Eigen::Matrix3d E;
+  for (int j = 0; j < 3; ++j) E.col(j) = X0.col(j + 1) - X0.col(0);
+  const Eigen::Vector3d cn = E.partialPivLu().solve(normal.normalized());  // n = E cn
+  const Eigen::Vector3d co = E.partialPivLu().solve(origin - X0.col(0));  // o = x_A + E co
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  MatX N = MatX::Zero(3, 15), W = MatX::Zero(3, 15);
+  for (int j = 0; j < 3; ++j) {
+    N.block<3, 3>(0, 0) -= cn[j] * I;
+    N.block<3, 3>(0, 3 * (j + 1)) += cn[j] * I;
+    W.block<3, 3>(0, 0) += co[j] * I;  // - o = -x_A - sum co_j (x_Bj - x_A)
+    W.block<3, 3>(0, 3 * (j + 1)) -= co[j] * I;
+  }
+  W.block<3, 3>(0, 0) -= I;
+  W.block<3, 3>(0, 12) += I;
+  std::vector<int> nodes = basic;
+  nodes.push_back(point);
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  return std::make_unique<BilinearConstraint>(std::move(name), "point_on_plane", nodes, N, zero, W, zero, 0.0);
+}
+
+std::unique_ptr<BilinearConstraint> BilinearConstraint::pointOnFixedPlane(std::string name, int point,
+                                                                          const Eigen::Vector3d& origin,
+                                                                          const Eigen::Vector3d& normal) {
+  // Linear: the normal is the constant first factor, (x_P - origin) the second.
+  return std::make_unique<BilinearConstraint>(std::move(name), "point_on_plane", std::vector<int>{point},
+                                              MatX::Zero(3, 3), normal.normalized(), MatX::Identity(3, 3),
+                                              Eigen::Vector3d(-origin), 0.0);
+}
+
+}  // namespace flexsens

@@ -1,0 +1,60 @@
+// Constraints that are the dot product of two vectors linear in the local coordinates:
+//   Phi = (N x + a0) . (W x + b0) - c0,   N, W, a0, b0 constant (N, W: 3 x local dofs)
+// so that Phi_q = x^T (N^T W + W^T N) and the Hessian N^T W + W^T N is constant (remark 4.1
+// of the PIM paper: flexsens constraints are at most quadratic). Two uses:
+//  - perpendicular (universal joint): (x_b - x_a) . (x_d - x_c) = c0 (0 for a cross);
+//  - point on a plane fixed to a rigid body: n(q) . (x_P - o(q)) = 0, where the plane's
+//    normal n = sum_j cn_j e_j and origin o = x_A + sum_j co_j e_j are fixed combinations of
+//    the body's basic vectors e_j = x_Bj - x_A (so they move with the body), or constants
+//    for a plane fixed in space.
+#pragma once
+
+#include <memory>
+
+#include "core/Element.hpp"
+
+namespace flexsens {
+
+class BilinearConstraint : public Constraint {
+ public:
+  /// N, W: 3 x (3 nodes.size()); a0, b0: constant parts (space-fixed vectors) [m].
+  BilinearConstraint(std::string name, std::string kind, std::vector<int> nodes, MatX N, Eigen::Vector3d a0,
+                     MatX W, Eigen::Vector3d b0, double c0)
+      : Constraint(std::move(name), std::move(nodes)), kind_(std::move(kind)), N_(std::move(N)),
+        W_(std::move(W)), a0_(a0), b0_(b0), c0_(c0), H_(N_.transpose() * W_ + W_.transpose() * N_) {}
+  std::string kind() const override { return kind_; }
+  int rows() const override { return 1; }
+  void phi(const LocalState& s, VecX& out) const override;
+  void jacobian(const LocalState& s, MatX& J) const override;
+  void hessian(const LocalState&, int, MatX& H) const override { H = H_; }
+  bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
+  void jacobianAD(const LocalState& s, MatX& J) const override;
+  void hessianAD(const LocalState& s, int r, MatX& H) const override;
+  /// No properties: the geometry is fixed at build time.
+  bool parameterDerivativeAD(const LocalState&, int, VecX&, MatX&) const override { return false; }
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
+
+  /// (x_b - x_a) . (x_d - x_c) = c0 on nodes (a, b, c, d).
+  static std::unique_ptr<BilinearConstraint> perpendicular(std::string name, std::vector<int> nodes, double c0);
+  /// x_P on the plane through `origin` with `normal` (at t = 0), fixed to the body whose
+  /// basic points are X0 (3 x 4, nodes basic[0..3]); nodes = (basic..., P).
+  static std::unique_ptr<BilinearConstraint> pointOnBodyPlane(std::string name, const std::vector<int>& basic,
+                                                             const Eigen::Matrix<double, 3, 4>& X0, int point,
+                                                             const Eigen::Vector3d& origin,
+                                                             const Eigen::Vector3d& normal);
+  /// x_P on a plane fixed in space: n . (x_P - origin) = 0.
+  static std::unique_ptr<BilinearConstraint> pointOnFixedPlane(std::string name, int point,
+                                                              const Eigen::Vector3d& origin,
+                                                              const Eigen::Vector3d& normal);
+
+ private:
+  template <class T>
+  VecT<T> phiT(const VecT<T>& x, const VecT<T>& props) const;
+  std::string kind_;
+  MatX N_, W_;
+  Eigen::Vector3d a0_, b0_;
+  double c0_;
+  MatX H_;
+};
+
+}  // namespace flexsens

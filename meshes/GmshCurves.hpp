@@ -1,0 +1,66 @@
+// Bridge from a Gmsh geometry (.geo) to node chains for beams.
+//
+// A scene's beams, springs and bars can be drawn as named curves (Physical Curves) of a Gmsh
+// geometry, with named joints (Physical Points). meshCurves() opens the geometry, meshes the
+// requested curves with a prescribed number of uniform segments (transfinite), and returns
+// each requested group as one ordered chain of named nodes.
+//
+// Gmsh lifetime: Gmsh (SDK 4.8) is initialized and finalized inside meshCurves() only, by an
+// RAII guard (finalized even when an exception leaves the call), with General.Terminal = 0 so
+// nothing is printed. Scenes without meshes therefore never start Gmsh. Calls are serialized
+// by a mutex (Gmsh has global state). If Gmsh was already initialized by someone else when
+// meshCurves() is called, it throws std::logic_error rather than finalize a session it does
+// not own (Gmsh 4.8 has no gmsh::isInitialized(); the state is probed by an option read,
+// which throws "Gmsh has not been initialized" when it is not).
+//
+// Units: Gmsh has none; the coordinates of the .geo are taken as meters.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/Types.hpp"
+
+namespace flexsens {
+
+/// One requested group: a Physical Curve name and its total number of segments.
+struct CurveRequest {
+  std::string group;
+  int segments = 0;
+};
+
+/// A group's nodes, ordered from one free end of its connected curves to the other.
+/// names[i] is the name of the Physical Point the node sits on, if any, else "<group>.<i>";
+/// two chains that meet at a named point share that node name.
+struct NodeChain {
+  std::string group;
+  std::vector<std::string> names;
+  std::vector<Eigen::Vector3d> positions;  ///< [m]
+};
+
+struct CurveMesh {
+  std::vector<NodeChain> chains;                   ///< in the order of the requests
+  std::map<std::string, Eigen::Vector3d> points;  ///< every named Physical Point [m]
+};
+
+/// Meshes the requested Physical Curves of `geoFile` and returns one chain per request.
+///
+/// A group may hold several curves forming one open chain (e.g. an arc longer than 180
+/// degrees split into two Circle arcs). Its `segments` are distributed over its curves in
+/// proportion to their lengths (largest remainder, at least one per curve, total exactly
+/// `segments`), each curve meshed uniformly in its parameter. The chain starts at a free end,
+/// preferring the one where a curve starts (so a group drawn A -> P -> B is listed from A).
+/// An end point that is not a Physical Point is allowed; its node is named "<group>.0" (or
+/// "<group>.<segments>" at the far end) like any interior node.
+///
+/// Throws InputError(where + ": ...") when the file cannot be opened or Gmsh reports an error,
+/// a requested group is missing (the message lists the available Physical Curves), a group is
+/// requested twice or shares a curve with another requested group, segments < 1 or fewer than
+/// the group's curves, or the group's curves do not form one open chain (branch, loop, closed
+/// curve, disconnected pieces); also when a Physical Point holds several points, two Physical
+/// Points share a name or a point.
+CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>& requests,
+                     const std::string& where);
+
+}  // namespace flexsens
