@@ -3,7 +3,9 @@
 // constraints to a square system
 //   A = [Phi_q; Lambda_q; z_q],   A q_p0 = [-Phi_p; -Lambda_p; z_p0]            (eq. 8)
 //   A q'_p0 = [-(Phi_q q_p)_q q' - Phi_qp q'; same for Lambda; z'_p0 - (z_q q_p)_q q']  (eq. 9)
-// The remaining initial sensitivities (a_p0, lambda_p0) follow from the dynamics.
+// The remaining initial sensitivities (a_p0, lambda_p0) follow from the dynamics. Lambda_q
+// holds only the rigidization rows independent of Phi_q and of earlier rows (m_r of them);
+// the rows left out must hold for the solution too (checked).
 #pragma once
 
 #include <memory>
@@ -43,6 +45,11 @@ struct LambdaSelection {
 };
 LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lambda, const VecX& q,
                                        const VecX& p);
+
+/// n, m, d, m_r (independent rigidization rows), d_s = d - m_r (required SDOFs), and the
+/// generated/dropped rigidization rows at (q, p), without solving (for `flexsens check`).
+/// report.ds is the required count here, not the number of SDOFs the case gives.
+PimReport pimCounts(const Assembler& as, const PimCase& c, const VecX& q, const VecX& p);
 
 /// Solves eqs. (8) and (9) at the consistent nominal state s (positions, velocities) and
 /// returns the full initial state with sensitivities. Throws InputError for a wrong SDOF

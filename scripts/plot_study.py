@@ -75,7 +75,7 @@ def error_time(d, path):
     model = os.path.basename(path)[len("error_time_"):-len(".csv")]
     title, sens, _ = model_info(model)
     head, rows = read(path)
-    fig, ax = plt.subplots(figsize=(9, 4.8))
+    fig, ax = plt.subplots(figsize=(9, 6))
     t = [float(r[0]) for r in rows]
     for j, label in enumerate(head[1:], start=1):
         pts = [(ti, num(r[j])) for ti, r in zip(t, rows) if num(r[j])]
@@ -87,7 +87,7 @@ def error_time(d, path):
     ax.set_ylabel(f"|{sens} - reference|")
     ax.set_title(f"{title}: error over time (reference: IDAS rtol 1e-10)", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=6.5, ncol=2)
+    ax.legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     fig.tight_layout()
     fig.savefig(os.path.join(d, f"error_time_{model}.png"), dpi=110)
     plt.close(fig)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the speed-versus-accuracy report bench/study/study.md (+ CSV, PNG) in one run
-# (about 5-6 minutes on 2 cores; `--quick` for a smoke test). FLEXSENS_BUILD_DIR=<dir> builds
+# (about 5-7 minutes on 2 cores; `--quick` for a smoke test). FLEXSENS_BUILD_DIR=<dir> builds
 # and uses that build directory instead of build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -36,6 +36,23 @@ struct Recorder : Observer {
   }
 };
 
+/// Settings for tests: IDAS at rtol = atol = dtOrTol, or a fixed-step scheme at dt = dtOrTol;
+/// frames every 0.5 s, Newton to 1e-14.
+inline IntegratorSettings integratorSettings(const std::string& type, double dtOrTol, double tEnd) {
+  IntegratorSettings s;
+  s.type = type;
+  s.tEnd = tEnd;
+  s.frameInterval = 0.5;
+  s.newtonTol = 1e-14;
+  if (type == "idas") {
+    s.rtol = s.atol = dtOrTol;
+    s.dt = 0.0;
+  } else {
+    s.dt = dtOrTol;
+  }
+  return s;
+}
+
 /// Relative error |a - b| / max(|b|, floor) in the max norm.
 inline double relErr(const MatX& a, const MatX& b, double floor = 1.0) {
   return (a - b).lpNorm<Eigen::Infinity>() / std::max(b.lpNorm<Eigen::Infinity>(), floor);

@@ -33,20 +33,6 @@ std::unique_ptr<Case> load(const std::string& file, const std::string& name) {
   return c;
 }
 
-IntegratorSettings settings(const std::string& type, double dtOrTol, double tEnd) {
-  IntegratorSettings s;
-  s.type = type;
-  s.tEnd = tEnd;
-  s.frameInterval = 0.5;
-  s.newtonTol = 1e-14;
-  if (type == "idas") {
-    s.rtol = s.atol = dtOrTol;
-    s.dt = 0.0;
-  } else {
-    s.dt = dtOrTol;
-  }
-  return s;
-}
 
 double dz2(const Recorder& r, const Case& c, double t) { return r.at(t).dp[0].q[c.z2]; }
 
@@ -59,7 +45,7 @@ TEST(Methods, NumericalDifferencesMatchDirectDifferentiationOfTheSameScheme) {
   for (const auto& [file, name, tEnd] : {std::tuple<std::string, std::string, double>{"rigid.yaml", "R1", 1.0},
                                          {"flexible.yaml", "F1", 2.0}, {"flexible.yaml", "F4", 2.0}}) {
     auto c = load(file, name);
-    const auto set = settings("trapezoidal", 1e-3, tEnd);
+    const auto set = integratorSettings("trapezoidal", 1e-3, tEnd);
     Recorder dd, nd;
     integrate(*c->as, c->p, c->start, set, dd);
     integrateFiniteDifferences(*c->as, c->p, c->start, c->sc.pimCase.get(), set, {"central", 1e-5}, nd);
@@ -75,7 +61,7 @@ TEST(Methods, NumericalDifferencesMatchDirectDifferentiationOfTheSameScheme) {
 TEST(Methods, ForwardDifferencesAreFirstOrderInTheStep) {
   // Forward nd error ~ h: halving the step halves the error (against dd of the same scheme).
   auto c = load("flexible.yaml", "F1");
-  const auto set = settings("trapezoidal", 1e-3, 0.5);
+  const auto set = integratorSettings("trapezoidal", 1e-3, 0.5);
   Recorder dd;
   integrate(*c->as, c->p, c->start, set, dd);
   std::vector<double> err;
@@ -96,8 +82,8 @@ TEST(Methods, IdasDifferenceQuotientsWorkAtLooseToleranceOnly) {
   // at rtol 1e-6 stops near t = 0.55 s with that diagnostic), never writing wrong numbers.
   auto c = load("rigid.yaml", "R1");
   Recorder ref, dq, dd;
-  integrate(*c->as, c->p, c->start, settings("idas", 1e-10, 1.0), ref);
-  auto loose = settings("idas", 1e-4, 1.0);
+  integrate(*c->as, c->p, c->start, integratorSettings("idas", 1e-10, 1.0), ref);
+  auto loose = integratorSettings("idas", 1e-4, 1.0);
   integrate(*c->as, c->p, c->start, loose, dd);
   loose.sensitivityMethod = "dq";
   integrate(*c->as, c->p, c->start, loose, dq);
@@ -116,7 +102,7 @@ TEST(Methods, AutomaticDifferentiationReproducesDirectDifferentiation) {
   auto c = load("flexible.yaml", "F2");
   Assembler adAs(*c->sc.model, Derivatives::AutomaticDifferentiation);
   const StateWithSens adStart = initialState(adAs, c->p, c->sc.pimCase.get());
-  const auto set = settings("trapezoidal", 1e-3, 1.0);
+  const auto set = integratorSettings("trapezoidal", 1e-3, 1.0);
   Recorder dd, ad;
   integrate(*c->as, c->p, c->start, set, dd);
   integrate(adAs, c->p, adStart, set, ad);
@@ -126,7 +112,7 @@ TEST(Methods, AutomaticDifferentiationReproducesDirectDifferentiation) {
   }
   auto r = load("rigid.yaml", "R1");
   Assembler adR(*r->sc.model, Derivatives::AutomaticDifferentiation);
-  const auto iset = settings("idas", 1e-8, 1.0);
+  const auto iset = integratorSettings("idas", 1e-8, 1.0);
   Recorder idd, iad;
   integrate(*r->as, r->p, r->start, iset, idd);
   integrate(adR, r->p, initialState(adR, r->p, r->sc.pimCase.get()), iset, iad);

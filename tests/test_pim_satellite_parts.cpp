@@ -326,6 +326,10 @@ TEST(PimSatRedundancy, PlanarCloudOnABodyPlaneDropsItsOutOfPlaneRow) {
   EXPECT_EQ(sel.dropped[0], 5);
   EXPECT_NE(lam.rowLabel(5).find("point(P2)"), std::string::npos) << lam.rowLabel(5);
   EXPECT_LT(r->rep.condition, 1e8);
+  const PimReport counts = pimCounts(*r->as, *r->sc.pimCase, r->s.x.q, r->sc.model->nominalParameters());
+  EXPECT_EQ(counts.mr, 5);
+  EXPECT_EQ(counts.ds, 7);
+  EXPECT_EQ(counts.lambdaDropped, 1);
   checkSolution(*r);
 }
 

@@ -68,13 +68,16 @@ int main(int argc, char** argv) {
                 << " constraints, " << m.parameters.size() << " parameters, "
                 << sc.outputs.size() << " outputs\n";
       for (const auto& name : sc.caseNames) {
+        // The PIM's own count: m_r = independent rigidization equations (rank-revealing).
         Scene cs = readScene(checkPath, name);
         const Model& cm = *cs.model;
-        int mr = 0;
-        for (const auto& c : cs.pimCase->lambda) mr += c->rows();
+        Assembler as(cm);
+        const VecX p = cm.nominalParameters();
+        PimReport rep;
+        initialState(as, p, cs.pimCase.get(), &rep);
         std::cout << "  case " << name << ": n = " << cm.n << ", m = " << cm.m << ", d = " << cm.n - cm.m
-                  << ", m_r = " << mr << ", d_s = " << cm.n - cm.m - mr << " (" << cs.pimCase->sdofs.size()
-                  << " SDOFs given)\n";
+                  << ", m_r = " << rep.mr << " (" << rep.lambdaGenerated << " generated, " << rep.lambdaDropped
+                  << " implied by the constraints), d_s = " << rep.ds << " SDOFs, cond(A) = " << rep.condition << "\n";
       }
       return 0;
     }

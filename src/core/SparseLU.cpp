@@ -32,24 +32,30 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
     if (!symbolic_) throw NumericalError("KLU could not analyse the " + what);
     pattern_ = A;
   }
+  // klu_rcond is min |u_ii| / max |u_ii|: cheap, but it can be ~1e-17 for a matrix whose
+  // condition number is 1e5 (the satellite with 60-segment springs: light nodes next to a
+  // 100 kg body). When it looks bad, klu_condest (a 1-norm estimate, a few solves) decides.
+  auto conditioned = [&](double rcondLimit) {
+    klu_l_rcond(symbolic_, numeric_, &common_);
+    if (common_.rcond > rcondLimit) return true;
+    klu_l_condest(Ap, Ax, symbolic_, numeric_, &common_);
+    common_.rcond = 1.0 / common_.condest;
+    return common_.condest < 1e15;
+  };
   bool ok;
   if (numeric_) {
     ok = klu_l_refactor(Ap, Ai, Ax, symbolic_, numeric_, &common_) == 1 &&
          common_.status == KLU_OK;
     // Refactoring keeps the old pivot order; on trouble, factor afresh with new pivoting.
-    if (ok) {
-      klu_l_rcond(symbolic_, numeric_, &common_);
-      ok = common_.rcond > 1e-14;
-    }
+    if (ok) ok = conditioned(1e-14);
     if (!ok) klu_l_free_numeric(&numeric_, &common_);
   }
   if (!numeric_) {
     numeric_ = klu_l_factor(Ap, Ai, Ax, symbolic_, &common_);
-    ok = numeric_ && common_.status == KLU_OK;
-    if (ok) klu_l_rcond(symbolic_, numeric_, &common_);
+    ok = numeric_ && common_.status == KLU_OK && conditioned(1e-16);
   }
   ++count_;
-  if (!ok || common_.status == KLU_SINGULAR || !(common_.rcond > 1e-16)) {
+  if (!ok || common_.status == KLU_SINGULAR) {
     std::ostringstream os;
     os << "the " << what << " is singular or nearly so (KLU status " << common_.status
        << ", reciprocal condition estimate " << (numeric_ ? common_.rcond : 0.0) << ")";

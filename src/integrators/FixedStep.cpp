@@ -66,8 +66,11 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     const double t = t0 + step * h;  // not accumulated: frame times stay exact multiples
     VecX abar, vbar;
     sc.history(old, h, abar, vbar);
-    // Predictor: Taylor expansion of the previous step.
-    VecX q = old.q + h * old.v + 0.5 * h * h * old.a;
+    // Predictor: Taylor expansion of the previous step. BDF-1 is the scheme for stiff models
+    // and starts from q_n + h v_n: stiff light parts (the satellite's prestressed springs, node
+    // masses ~1e-3 kg, accelerations ~1e6 m/s^2) would put h^2 a_n / 2 metres away, where the
+    // Newton matrix is singular.
+    VecX q = old.q + h * old.v + (sc.trapezoidal ? 0.5 * h * h : 0.0) * old.a;
     VecX lt = sigma * old.lambda;
     VecX a, v;
     bool converged = false;

@@ -98,7 +98,9 @@ struct Problem {
   VecX pOfM;  ///< parameters M was computed at
   /// The mass matrix at the current p (recomputed only when IDAS has perturbed p).
   const SpMat& mass() {
-    if (pOfM.size() != p->size() || pOfM != *p) {
+    // (M.rows() != n: not computed yet, which the parameter test alone misses when there are
+    // no parameters: an empty p equals the empty pOfM.)
+    if (M.rows() != n || pOfM.size() != p->size() || pOfM != *p) {
       M = as->mass(*p);
       pOfM = *p;
     }

@@ -14,6 +14,7 @@
 #include "elements/RigidBar.hpp"
 #include "elements/RigidBody.hpp"
 #include "elements/RotationalSpring.hpp"
+#include "meshes/GmshCurves.hpp"
 #include "pim/Rigidization.hpp"
 #include "scene/Scene.hpp"
 #include "scene/YamlReader.hpp"
@@ -34,7 +35,7 @@ class Builder {
     if (!root || root.IsNull())
       throw InputError(r_.file() + ":1:1: key 'dimension': the scene is empty; expected a mapping "
                        "with at least the keys dimension, nodes and integrator");
-    r_.allowKeys(root, "", {"dimension", "plane", "gravity", "nodes", "elements", "constraints",
+    r_.allowKeys(root, "", {"dimension", "plane", "gravity", "geometry", "nodes", "elements", "constraints",
                             "parameters", "integrator", "outputs", "output", "description", "cases"});
     sc.model = std::make_unique<Model>();
     Model& m = *sc.model;
@@ -48,7 +49,8 @@ class Builder {
         r_.fail(root["plane"], "plane", "expected xy, xz or yz");
     }
     m.gravity = root["gravity"] ? r_.vector(root["gravity"], "gravity", m.dim) : VecX::Zero(m.dim);
-    readNodes(r_.require(root, "nodes", ""), m);
+    if (root["geometry"]) readGeometry(root["geometry"], m);
+    if (root["nodes"] || !root["geometry"]) readNodes(r_.require(root, "nodes", ""), m);
     if (root["elements"]) readElements(root["elements"], m);
     if (root["constraints"]) readConstraints(root["constraints"], m);
     // yaml-cpp: a default Node is "defined" (null) and '=' assigns content, hence optional.
@@ -69,6 +71,60 @@ class Builder {
 
  private:
   // -------------------------------------------------------------------------- nodes
+  // ----------------------------------------------------------------------- geometry
+  /// geometry: {gmsh: file.geo}: the file's named points become nodes now; beams name its
+  /// curves (curve + segments) and get their node chains when they are read. Gmsh is
+  /// started only here (meshes/GmshCurves), so scenes without geometry never start it.
+  void readGeometry(const YAML::Node& g, Model& m) {
+    r_.allowKeys(g, "geometry", {"gmsh"});
+    if (m.dim != 3) r_.fail(g, "geometry", "Gmsh geometry is for spatial scenes (dimension 3)");
+    const std::string rel = r_.text(r_.require(g, "gmsh", "geometry"), "geometry.gmsh");
+    const std::filesystem::path base = std::filesystem::path(r_.file()).parent_path();
+    geoFile_ = (base / rel).string();
+    const CurveMesh mesh = meshCurves(geoFile_, {}, where(g["gmsh"], "geometry.gmsh"));
+    for (const auto& [name, x] : mesh.points) addGeometryNode(name, x, g["gmsh"], "geometry.gmsh", m);
+  }
+
+  std::string where(const YAML::Node& n, const std::string& key) const {
+    return r_.file() + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1) +
+           ": key '" + key + "'";
+  }
+
+  /// A node from the geometry; a name met again must be at the same place.
+  int addGeometryNode(const std::string& name, const Eigen::Vector3d& x, const YAML::Node& at,
+                      const std::string& key, Model& m) {
+    auto it = nodeIndex_.find(name);
+    if (it != nodeIndex_.end()) {
+      if ((Eigen::Vector3d(m.nodes[it->second].position) - x).norm() > 1e-9)
+        r_.fail(at, key, "the geometry places node '" + name + "' at two different positions");
+      return it->second;
+    }
+    Node nd;
+    nd.name = name;
+    nd.position = x;
+    nd.velocity = VecX::Zero(3);
+    nodeIndex_[name] = static_cast<int>(m.nodes.size());
+    m.nodes.push_back(nd);
+    return nodeIndex_[name];
+  }
+
+  /// The node chain of element `el`'s `curve` (a Physical Curve of the geometry) meshed with
+  /// `segments` uniform segments.
+  std::vector<int> curveNodes(const YAML::Node& el, const std::string& path, Model& m) {
+    const YAML::Node c = el["curve"];
+    if (el["nodes"]) r_.fail(el["nodes"], path + ".nodes", "give either nodes or curve (and segments), not both");
+    if (geoFile_.empty()) r_.fail(c, path + ".curve", "curves need a geometry: add geometry: {gmsh: file.geo}");
+    const std::string group = r_.text(c, path + ".curve");
+    const YAML::Node sn = r_.require(el, "segments", path);
+    const int segments = r_.integer(sn, path + ".segments");
+    if (segments < 1) r_.fail(sn, path + ".segments", "expected at least 1 segment, got " + std::to_string(segments));
+    const CurveMesh mesh = meshCurves(geoFile_, {{group, segments}}, where(c, path + ".curve"));
+    std::vector<int> ids;
+    const NodeChain& ch = mesh.chains.at(0);
+    for (size_t i = 0; i < ch.names.size(); ++i) ids.push_back(addGeometryNode(ch.names[i], ch.positions[i], c, path + ".curve", m));
+    return ids;
+  }
+
   void readNodes(const YAML::Node& list, Model& m) {
     r_.requireList(list, "nodes");
     if (list.size() == 0) r_.fail(list, "nodes", "expected at least one node");
@@ -310,8 +366,8 @@ class Builder {
   }
 
   void readBeam(const YAML::Node& el, const std::string& path, const std::string& name, Model& m) {
-    r_.allowKeys(el, path, {"name", "type", "nodes", "E", "density", "section", "rest_shape"});
-    const auto ids = nodeList(el, path, 2, 100000);
+    r_.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape"});
+    const auto ids = el["curve"] ? curveNodes(el, path, m) : nodeList(el, path, 2, 100000);
     // rest_shape: initial (default; rest = initial positions) or straight (rest segment lengths
     // = initial ones, zero rest curvature).
     bool straightRest = false;
@@ -417,9 +473,17 @@ class Builder {
   /// Nodes kept on a plane fixed to a rigid body (or to space): one constraint per node.
   /// Nodes of the plane's own body are skipped: their distance to the plane is fixed already.
   void readPointOnPlane(const YAML::Node& c, const std::string& path, const std::string& name, Model& m) {
-    r_.allowKeys(c, path, {"name", "type", "nodes", "body", "point", "normal"});
+    r_.allowKeys(c, path, {"name", "type", "nodes", "beam", "body", "point", "normal"});
     if (m.dim != 3) r_.fail(c["type"], path + ".type", "point_on_plane needs a spatial scene (dimension 3)");
-    const auto ids = nodeList(c, path, 1, 100000);
+    std::vector<int> ids;
+    if (c["beam"]) {  // every node of a beam (e.g. a spring drawn as a curve)
+      const std::string b = r_.text(c["beam"], path + ".beam");
+      if (!bodies_.count(b)) r_.fail(c["beam"], path + ".beam", "no beam named '" + b + "' (defined under elements)");
+      ids = bodies_[b].nodes;
+      if (c["nodes"]) r_.fail(c["nodes"], path + ".nodes", "give either nodes or beam, not both");
+    } else {
+      ids = nodeList(c, path, 1, 100000);
+    }
     const Eigen::Vector3d origin = r_.vector(r_.require(c, "point", path), path + ".point", 3);
     const Eigen::Vector3d normal = r_.vector(r_.require(c, "normal", path), path + ".normal", 3);
     if (!(normal.norm() > 0)) r_.fail(c["normal"], path + ".normal", "expected a non-zero normal vector");
@@ -434,8 +498,8 @@ class Builder {
       const Node& nd = m.nodes[ids[i]];
       const double off = normal.normalized().dot(Eigen::Vector3d(nd.position) - origin);
       if (std::abs(off) > 1e-9 * std::max(1.0, origin.norm()))
-        r_.fail(c["nodes"][i], at(path + ".nodes", i), "node '" + nd.name + "' is " + std::to_string(off) +
-                                                            " m off the plane at t = 0");
+        r_.fail(c["beam"] ? c["beam"] : c["nodes"][i], c["beam"] ? path + ".beam" : at(path + ".nodes", i),
+                "node '" + nd.name + "' is " + std::to_string(off) + " m off the plane at t = 0");
       if (nd.ground || (body && body->members.count(ids[i]))) continue;
       const std::string cn = ids.size() == 1 ? name : name + "[" + nd.name + "]";
       if (body)
@@ -764,6 +828,7 @@ class Builder {
     std::set<int> members;             ///< every node of the body
   };
   std::map<std::string, RigidBodyInfo> rigidBodies_;
+  std::string geoFile_;  ///< the scene's Gmsh geometry, if any
   std::map<int, std::string> velocitySetBy_;  ///< node -> key path that set its initial velocity
   const Model* model_ = nullptr;
   YamlReader r_;
