@@ -49,8 +49,9 @@ std::unique_ptr<BilinearConstraint> BilinearConstraint::pointOnBodyPlane(
     const Eigen::Vector3d& origin, const Eigen::Vector3d& normal) {
   Eigen::Matrix3d E;
   for (int j = 0; j < 3; ++j) E.col(j) = X0.col(j + 1) - X0.col(0);
-  const Eigen::Vector3d cn = E.partialPivLu().solve(normal.normalized());  // n = E cn
-  const Eigen::Vector3d co = E.partialPivLu().solve(origin - X0.col(0));  // o = x_A + E co
+  const Eigen::PartialPivLU<Eigen::Matrix3d> lu(E);
+  const Eigen::Vector3d cn = lu.solve(normal.normalized());  // n = E cn
+  const Eigen::Vector3d co = lu.solve(origin - X0.col(0));   // o = x_A + E co
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   MatX N = MatX::Zero(3, 15), W = MatX::Zero(3, 15);
   for (int j = 0; j < 3; ++j) {

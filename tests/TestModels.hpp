@@ -4,6 +4,7 @@
 #include <functional>
 #include <string>
 
+#include "elements/Beam.hpp"
 #include "integrators/State.hpp"
 #include "scene/Scene.hpp"
 
@@ -24,6 +25,30 @@ inline MatX fdJacobian(const std::function<VecX(const VecX&)>& f, const VecX& x,
   }
   return J;
 }
+
+/// Beam sections with every property bound to a parameter: 0 = E, 1 = density, 2 = side
+/// (square) or area (explicit), 3 = inertia (explicit only); values from squareParams() /
+/// explicitParams(). Soft (polymer-like) materials: at 30% strain the elastic force is then
+/// only ~1e2..1e3 times the weight, so a central difference in the density is not swamped by
+/// round-off of the elastic part.
+inline std::shared_ptr<BeamSection> squareSection() {
+  auto s = std::make_shared<BeamSection>();
+  s->square = true;
+  s->E.param = 0;
+  s->density.param = 1;
+  s->side.param = 2;
+  return s;
+}
+inline std::shared_ptr<BeamSection> explicitSection() {
+  auto s = std::make_shared<BeamSection>();
+  s->E.param = 0;
+  s->density.param = 1;
+  s->area.param = 2;
+  s->inertia.param = 3;
+  return s;
+}
+inline VecX squareParams() { return (VecX(3) << 5.0e6, 1100.0, 0.01).finished(); }
+inline VecX explicitParams() { return (VecX(4) << 2.0e6, 1400.0, 3.0e-4, 2.5e-8).finished(); }
 
 /// Records the full state (and sensitivities) at every output frame.
 struct Recorder : Observer {

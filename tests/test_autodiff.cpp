@@ -17,6 +17,10 @@
 #include "pim/Rigidization.hpp"
 
 using namespace flexsens;
+using flexsens::test::explicitParams;
+using flexsens::test::explicitSection;
+using flexsens::test::squareParams;
+using flexsens::test::squareSection;
 
 namespace {
 
@@ -117,25 +121,6 @@ void checkConstraint(const Constraint& c, const LocalState& s, int nParams, bool
     EXPECT_GT(dphi.norm(), 0.0);
   }
 }
-
-std::shared_ptr<BeamSection> squareSection() {  // parameters 0 = E, 1 = density, 2 = side
-  auto s = std::make_shared<BeamSection>();
-  s->square = true;
-  s->E.param = 0;
-  s->density.param = 1;
-  s->side.param = 2;
-  return s;
-}
-std::shared_ptr<BeamSection> explicitSection() {  // 0 = E, 1 = density, 2 = area, 3 = inertia
-  auto s = std::make_shared<BeamSection>();
-  s->E.param = 0;
-  s->density.param = 1;
-  s->area.param = 2;
-  s->inertia.param = 3;
-  return s;
-}
-VecX squareParams() { return (VecX(3) << 5.0e6, 1100.0, 0.01).finished(); }
-VecX explicitParams() { return (VecX(4) << 2.0e6, 1400.0, 3.0e-4, 2.5e-8).finished(); }
 
 }  // namespace
 

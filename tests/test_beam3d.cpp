@@ -29,28 +29,12 @@
 #include "scene/Scene.hpp"
 
 using namespace flexsens;
+using flexsens::test::explicitParams;
+using flexsens::test::explicitSection;
+using flexsens::test::squareParams;
+using flexsens::test::squareSection;
 
 namespace {
-
-// Parameters: 0 = E, 1 = density, 2 = side | area, 3 = inertia (explicit form only).
-std::shared_ptr<BeamSection> squareSection() {
-  auto s = std::make_shared<BeamSection>();
-  s->square = true;
-  s->E.param = 0;
-  s->density.param = 1;
-  s->side.param = 2;
-  return s;
-}
-std::shared_ptr<BeamSection> explicitSection() {
-  auto s = std::make_shared<BeamSection>();
-  s->E.param = 0;
-  s->density.param = 1;
-  s->area.param = 2;
-  s->inertia.param = 3;
-  return s;
-}
-VecX squareParams() { return (VecX(3) << 5.0e6, 1100.0, 0.01).finished(); }
-VecX explicitParams() { return (VecX(4) << 2.0e6, 1400.0, 3.0e-4, 2.5e-8).finished(); }
 
 /// Norm-wise relative difference (floor against all-zero references).
 double rel(const MatX& a, const MatX& b) {

@@ -6,35 +6,18 @@
 #include <functional>
 #include <random>
 
+#include "TestModels.hpp"
 #include "elements/Beam.hpp"
 
 using namespace flexsens;
+using flexsens::test::explicitParams;
+using flexsens::test::explicitSection;
+using flexsens::test::squareParams;
+using flexsens::test::squareSection;
 
 namespace {
 
 constexpr double kStep = 1e-6, kTol = 1e-6;
-
-// Parameters: 0 = E, 1 = density, 2 = side | area, 3 = inertia (explicit form only).
-std::shared_ptr<BeamSection> squareSection() {
-  auto s = std::make_shared<BeamSection>();
-  s->square = true;
-  s->E.param = 0;
-  s->density.param = 1;
-  s->side.param = 2;
-  return s;
-}
-std::shared_ptr<BeamSection> explicitSection() {
-  auto s = std::make_shared<BeamSection>();
-  s->E.param = 0;
-  s->density.param = 1;
-  s->area.param = 2;
-  s->inertia.param = 3;
-  return s;
-}
-// Soft (polymer-like) materials: at 30% strain the elastic force is then only ~1e2..1e3 times
-// the weight, so the central difference in density is not swamped by round-off of the elastic part.
-VecX squareParams() { return (VecX(3) << 5.0e6, 1100.0, 0.01).finished(); }
-VecX explicitParams() { return (VecX(4) << 2.0e6, 1400.0, 3.0e-4, 2.5e-8).finished(); }
 
 struct Fixture {
   VecX p, g;
