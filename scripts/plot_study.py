@@ -20,7 +20,7 @@ MODELS = {
 STYLES = ["-", "--", "-.", ":"]
 # error over time: colour per integrator, line style per method (ad is drawn wide and dotted
 # under dd: they agree to round-off)
-COLORS = {"trapezoidal": "C0", "bdf1": "C1", "maggi_rk4": "C2", "idas": "C3"}
+COLORS = {"trapezoidal": "C0", "bdf1": "C1", "maggi_rk4": "C2", "idas": "C3", "generalized_alpha": "C4"}
 METHOD_STYLE = {"dd": {"ls": "-"}, "ad": {"ls": ":"}, "nd": {"ls": "--"}, "nd-forward": {"ls": "-."},
                 "dq": {"ls": (0, (1, 3))}}
 

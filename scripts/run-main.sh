@@ -11,7 +11,9 @@ bash scripts/build.sh
 ./build/flexsens run examples/seed000/double_pendulum.yaml
 ./build/flexsens run examples/seed000/four_bar.yaml
 ./build/flexsens run examples/satellite/satellite.yaml
-./build/flexsens run examples/satellite/satellite.yaml --dt 0.005 --out results/satellite_dt0.005
+# Figure 12's other half: the same cases without numerical damping of the panels' motion.
+./build/flexsens run examples/satellite/satellite.yaml --integrator generalized_alpha --dt 0.001 \
+  --out results/satellite_galpha
 /usr/bin/python3 scripts/plot_satellite.py results
 bash scripts/install-paraview.sh
 bash scripts/render-frames.sh results/satellite/SAT2 results/satellite/SAT2/png L_B1B2 --every 5

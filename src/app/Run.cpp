@@ -16,9 +16,8 @@ namespace flexsens {
 void applyOptions(Scene& sc, const RunOptions& opt) {
   auto& s = sc.integrator;
   if (opt.integrator) {
-    if (*opt.integrator != "idas" && *opt.integrator != "trapezoidal" && *opt.integrator != "bdf1" &&
-        *opt.integrator != "maggi_rk4")
-      throw InputError("option --integrator: expected idas, trapezoidal, bdf1 or maggi_rk4, got '" +
+    if (!isIntegratorType(*opt.integrator))
+      throw InputError(std::string("option --integrator: expected ") + kIntegratorTypes + ", got '" +
                        *opt.integrator + "'");
     s.type = *opt.integrator;
   }
@@ -30,6 +29,14 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     if (!(*opt.dt > 0)) throw InputError("option --dt: expected a positive step in seconds");
     s.dt = *opt.dt;
     if (s.frameInterval < s.dt) s.frameInterval = s.dt;
+  }
+  if (opt.rhoInf) {
+    if (!(*opt.rhoInf >= 0.0 && *opt.rhoInf <= 1.0)) throw InputError("option --rho-inf: expected a number in [0, 1]");
+    s.rhoInf = *opt.rhoInf;
+  }
+  if (opt.rtol) {
+    if (!(*opt.rtol > 0)) throw InputError("option --rtol: expected a positive relative tolerance");
+    s.rtol = *opt.rtol;
   }
   auto& sens = sc.sensitivity;
   if (opt.method) sens.method = *opt.method;

@@ -27,9 +27,12 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "simulate a scene and write series.csv, VTK frames and summary.json");
   run->add_option("scene", scenePath, "scene file (YAML)")->required();
   run->add_option("--out", outDir, "output directory (default: the scene's output.directory)");
-  run->add_option("--integrator", integrator, "idas | trapezoidal | bdf1 (default: the scene's)");
+  run->add_option("--integrator", integrator, "idas | trapezoidal | bdf1 | generalized_alpha | maggi_rk4 (default: the scene's)");
   run->add_option("--t-end", tEnd, "final time [s]");
   run->add_option("--dt", dt, "fixed step [s] (IDAS: largest step)");
+  double rhoInf = 0, rtol = 0;
+  run->add_option("--rho-inf", rhoInf, "generalized_alpha: spectral radius at infinity, 0..1 (default 0.9; 1 = no dissipation)");
+  run->add_option("--rtol", rtol, "IDAS relative tolerance");
   std::string method, ndScheme;
   double ndStep = 0;
   run->add_option("--method", method, "sensitivities: dd (analytic, default) | ad (forward-mode automatic differentiation) | dq (IDAS difference quotients) | nd (finite differences of perturbed runs)");
@@ -84,6 +87,8 @@ int main(int argc, char** argv) {
     if (!integrator.empty()) opt.integrator = integrator;
     if (run->count("--t-end")) opt.tEnd = tEnd;
     if (run->count("--dt")) opt.dt = dt;
+    if (run->count("--rho-inf")) opt.rhoInf = rhoInf;
+    if (run->count("--rtol")) opt.rtol = rtol;
     if (!outDir.empty()) opt.outDir = outDir;
     if (!method.empty()) opt.method = method;
     if (run->count("--nd-step")) opt.ndStep = ndStep;

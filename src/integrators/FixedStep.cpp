@@ -10,23 +10,52 @@ namespace flexsens {
 namespace {
 
 /// Scheme coefficients: a = ca (q - qn) + abar, v = cv (q - qn) + vbar.
+/// Newmark family with generalized-alpha averaging of the accelerations (Chung-Hulbert,
+/// in Arnold-Bruls' index-3 form: equilibrium and constraints exactly at t_{n+1}):
+///   q_{n+1} = q_n + h v_n + h^2 (1/2 - beta) w_n + h^2 beta w_{n+1}
+///   v_{n+1} = v_n + h (1 - gamma) w_n + h gamma w_{n+1}
+///   (1 - am) w_{n+1} + am w_n = (1 - af) a_{n+1} + af a_n,  w = pseudo-acceleration.
+/// Trapezoidal = (am, af, beta, gamma) = (0, 0, 1/4, 1/2), so w = a. BDF-1 is separate.
 struct Scheme {
-  double ca, cv;
-  bool trapezoidal;
-  explicit Scheme(const std::string& type, double h)
-      : ca(type == "trapezoidal" ? 4.0 / (h * h) : 1.0 / (h * h)),
-        cv(type == "trapezoidal" ? 2.0 / h : 1.0 / h),
-        trapezoidal(type == "trapezoidal") {}
-  /// History terms (abar, vbar) from the previous step's q, v, a (or their sensitivities:
-  /// the map is linear, and q_n enters through -ca q_n, -cv q_n).
-  void history(const State& n, double h, VecX& abar, VecX& vbar) const {
-    if (trapezoidal) {
-      abar = -4.0 / h * n.v - n.a;
-      vbar = -n.v;
-    } else {
+  double ca = 0, cv = 0;
+  bool bdf1 = false, trapezoidal = false;
+  double am = 0, af = 0, beta = 0.25, gamma = 0.5, h = 0;
+  Scheme(const IntegratorSettings& set) : h(set.dt) {
+    bdf1 = set.type == "bdf1";
+    trapezoidal = set.type == "trapezoidal";
+    if (bdf1) {
+      ca = 1.0 / (h * h);
+      cv = 1.0 / h;
+      return;
+    }
+    if (set.type == "generalized_alpha") {
+      const double r = set.rhoInf;  // second order for every r in [0, 1]
+      am = (2.0 * r - 1.0) / (r + 1.0);
+      af = r / (r + 1.0);
+      gamma = 0.5 + af - am;
+      beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
+    }
+    ca = (1.0 - am) / ((1.0 - af) * beta * h * h);
+    cv = gamma / (beta * h);
+  }
+  static const VecX& pseudo(const State& n) { return n.pseudoAcc.size() ? n.pseudoAcc : n.a; }
+  /// History terms (abar, vbar) from the previous step's q, v, a, w (or their
+  /// sensitivities: the map is linear, and q_n enters through -ca q_n, -cv q_n).
+  void history(const State& n, VecX& abar, VecX& vbar) const {
+    if (bdf1) {
       abar = -n.v / h;
       vbar = VecX::Zero(n.v.size());
+      return;
     }
+    const VecX& w = pseudo(n);
+    const VecX jump = n.v / (beta * h) + (0.5 - beta) / beta * w;  // -(w_{n+1} at q = q_n)
+    abar = (-(1.0 - am) * jump + am * w - af * n.a) / (1.0 - af);
+    vbar = n.v + h * (1.0 - gamma) * w - gamma * h * jump;
+  }
+  /// w_{n+1} from a_{n+1} (also for sensitivities); empty for BDF-1.
+  VecX nextPseudo(const State& n, const VecX& aNext) const {
+    if (bdf1) return VecX();
+    return ((1.0 - af) * aNext + af * n.a - am * pseudo(n)) / (1.0 - am);
   }
 };
 
@@ -49,7 +78,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
                                    const IntegratorSettings& set, Observer& obs) {
   const int n = as.n(), m = as.m();
   const double h = set.dt;
-  const Scheme sc(set.type, h);
+  const Scheme sc(set);
   const double sigma = 1.0 / sc.ca;
   const long nsteps = std::lround((set.tEnd - cur.x.t) / h);
   const long frameEvery = std::max(1L, std::lround(set.frameInterval / h));
@@ -65,44 +94,76 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     const State& old = cur.x;
     const double t = t0 + step * h;  // not accumulated: frame times stay exact multiples
     VecX abar, vbar;
-    sc.history(old, h, abar, vbar);
-    // Predictor: Taylor expansion of the previous step. BDF-1 is the scheme for stiff models
-    // and starts from q_n + h v_n: stiff light parts (the satellite's prestressed springs, node
-    // masses ~1e-3 kg, accelerations ~1e6 m/s^2) would put h^2 a_n / 2 metres away, where the
-    // Newton matrix is singular.
-    VecX q = old.q + h * old.v + (sc.trapezoidal ? 0.5 * h * h : 0.0) * old.a;
-    VecX lt = sigma * old.lambda;
-    VecX a, v;
-    bool converged = false;
-    double lastUpdate = 0.0, lastResidual = 0.0;
-    for (int it = 0; it < set.maxNewtonIterations; ++it) {
-      a = sc.ca * (q - old.q) + abar;
-      v = sc.cv * (q - old.q) + vbar;
+    sc.history(old, abar, vbar);
+    // Predictor: Taylor expansion of the previous step for the trapezoidal rule. BDF-1 and
+    // generalized-alpha are the schemes for stiff models and start from q_n + h v_n: stiff
+    // light parts (the satellite's prestressed springs, node masses ~1e-3 kg, accelerations
+    // ~1e6 m/s^2) would put h^2 a_n / 2 metres away, where the Newton matrix is singular.
+    const VecX qPredicted = old.q + h * old.v + (sc.trapezoidal ? 0.5 * h * h : 0.0) * old.a;
+    auto residual = [&](const VecX& qq, const VecX& ll) {
+      const VecX aa = sc.ca * (qq - old.q) + abar, vv = sc.cv * (qq - old.q) + vbar;
       VecX r(n + m);
-      r.head(n) = sigma * (M * a - as.force(q, v, p)) + as.phiQTransposeTimes(q, p, lt);
-      if (m) r.tail(m) = as.phi(q, p);
+      r.head(n) = sigma * (M * aa - as.force(qq, vv, p)) + as.phiQTransposeTimes(qq, p, ll);
+      if (m) r.tail(m) = as.phi(qq, p);
       st.residualEvaluations++;
+      return r;
+    };
+    VecX q, lt;
+    double lastUpdate = 0.0, lastResidual = 0.0;
+    // Newton from the predictor. With `backtrack`, an update that increases |r|_2 is halved
+    // (down to 1/64): the fallback when plain Newton fails, so every step plain Newton
+    // solves keeps exactly its path and result.
+    auto newton = [&](bool backtrack) {
+      q = qPredicted;
+      lt = sigma * old.lambda;
+      VecX r = residual(q, lt);
       lastResidual = r.lpNorm<Eigen::Infinity>();
-      std::ostringstream what;
-      what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s)";
-      lu.factor(newtonMatrix(as, acc, q, v, lt, p, sc), what.str());
-      st.jacobianEvaluations++;
-      const VecX dx = lu.solve(VecX(-r));
-      q += dx.head(n);
-      lt += dx.tail(m);
-      st.newtonIterations++;
-      lastUpdate = dx.head(n).lpNorm<Eigen::Infinity>();
-      if (lastUpdate <= set.newtonTol * (1.0 + q.lpNorm<Eigen::Infinity>())) {
-        converged = true;
-        break;
+      for (int it = 0; it < set.maxNewtonIterations; ++it) {
+        const VecX v = sc.cv * (q - old.q) + vbar;
+        std::ostringstream what;
+        what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s"
+             << (backtrack ? ", with backtracking" : "") << ")";
+        lu.factor(newtonMatrix(as, acc, q, v, lt, p, sc), what.str());
+        st.jacobianEvaluations++;
+        const VecX dx = lu.solve(VecX(-r));
+        st.newtonIterations++;
+        lastUpdate = dx.head(n).lpNorm<Eigen::Infinity>();
+        double s = 1.0;
+        VecX qt = q + dx.head(n), lnew = lt + dx.tail(m);
+        if (lastUpdate <= set.newtonTol * (1.0 + qt.lpNorm<Eigen::Infinity>())) {
+          q = qt;
+          lt = lnew;
+          return true;
+        }
+        VecX rt = residual(qt, lnew);
+        while (backtrack && s > 1.0 / 64 && !(rt.allFinite() && rt.norm() <= r.norm())) {
+          s *= 0.5;
+          qt = q + s * dx.head(n);
+          lnew = lt + s * dx.tail(m);
+          rt = residual(qt, lnew);
+        }
+        q = qt;
+        lt = lnew;
+        r = rt;
+        lastResidual = r.lpNorm<Eigen::Infinity>();
+        lastUpdate *= s;
       }
+      return false;
+    };
+    bool converged = false;
+    try {
+      converged = newton(false);
+    } catch (const NumericalError&) {  // singular Newton matrix on the way: retry below
     }
+    if (!converged) converged = newton(true);
     if (!converged) {
       std::ostringstream os;
       os << set.type << " step " << step << " at t = " << t << " s (h = " << h
          << " s): Newton did not converge in " << set.maxNewtonIterations
-         << " iterations (last update |dq|_inf = " << lastUpdate << " m, residual "
-         << lastResidual << "); try a smaller --dt or a looser newton_tol";
+         << " iterations, also with backtracking (last update |dq|_inf = " << lastUpdate
+         << " m, residual " << lastResidual << "); try a smaller --dt"
+         << (set.type == "generalized_alpha" ? ", a smaller rho_inf (more damping)" : "")
+         << " or a looser newton_tol";
       throw NumericalError(os.str());
     }
     State next;
@@ -111,6 +172,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     next.a = sc.ca * (q - old.q) + abar;
     next.v = sc.cv * (q - old.q) + vbar;
     next.lambda = lt / sigma;
+    next.pseudoAcc = sc.nextPseudo(old, next.a);
     if (!next.q.allFinite() || !next.v.allFinite() || !next.lambda.allFinite()) {
       std::ostringstream os;
       os << set.type << " step " << step << " at t = " << t << " s: the solution is not finite; "
@@ -129,7 +191,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       for (size_t k = 0; k < cur.dp.size(); ++k) {
         const State& dold = cur.dp[k];
         VecX dabar, dvbar;
-        sc.history(dold, h, dabar, dvbar);
+        sc.history(dold, dabar, dvbar);
         const VecX ah = -sc.ca * dold.q + dabar;  // d a / dp at fixed q_{n+1}
         const VecX vh = -sc.cv * dold.q + dvbar;  // d v / dp at fixed q_{n+1}
         VecX rp(n + m);
@@ -149,6 +211,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         d.lambda = x.tail(m) / sigma;
         d.v = sc.cv * d.q + vh;
         d.a = sc.ca * d.q + ah;
+        d.pseudoAcc = sc.nextPseudo(dold, d.a);
       }
     }
     cur.x = std::move(next);

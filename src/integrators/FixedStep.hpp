@@ -1,5 +1,6 @@
 // The paper's fixed-step integrators on the index-3 form: trapezoidal rule (Newmark
-// beta = 1/4, gamma = 1/2) and BDF-1 (backward Euler on q and v). Each step solves
+// beta = 1/4, gamma = 1/2) and BDF-1 (backward Euler on q and v), and generalized-alpha
+// (Arnold-Bruls; rho_inf sets the high-frequency damping, 1 = none). Each step solves
 //   sigma (M a(q) + Phi_q^T lambda - Q(q, v(q))) = 0,  Phi(q) = 0
 // for q_{n+1} and lambda~ = sigma lambda with Newton and KLU, where a(q) = ca (q - q_n) + abar,
 // v(q) = cv (q - q_n) + vbar and sigma = 1/ca. Sensitivities are the exact derivative of

@@ -6,9 +6,12 @@
 namespace flexsens {
 
 struct IntegratorSettings {
-  std::string type = "idas";   ///< idas | trapezoidal | bdf1
+  std::string type = "idas";   ///< idas | trapezoidal | bdf1 | generalized_alpha | maggi_rk4
   double tEnd = 1.0;           ///< [s]
   double dt = 1e-3;            ///< fixed step [s]; for IDAS the largest step allowed (0 = free)
+  /// generalized_alpha: spectral radius at infinite frequency, in [0, 1]. 1 = no numerical
+  /// dissipation (the trapezoidal rule's spectrum), 0 = asymptotic annihilation like BDF-1.
+  double rhoInf = 0.9;
   double rtol = 1e-8;          ///< IDAS relative tolerance
   double atol = 1e-10;         ///< IDAS absolute tolerance
   double newtonTol = 1e-10;    ///< fixed-step Newton: tolerance on the scaled update
@@ -20,5 +23,11 @@ struct IntegratorSettings {
   /// run whole perturbed simulations and live in the app layer.
   std::string sensitivityMethod = "dd";
 };
+
+/// The integrator names scenes and the command line accept.
+inline constexpr const char* kIntegratorTypes = "idas, trapezoidal, bdf1, generalized_alpha or maggi_rk4";
+inline bool isIntegratorType(const std::string& t) {
+  return t == "idas" || t == "trapezoidal" || t == "bdf1" || t == "generalized_alpha" || t == "maggi_rk4";
+}
 
 }  // namespace flexsens

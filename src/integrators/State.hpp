@@ -11,6 +11,9 @@ namespace flexsens {
 struct State {
   double t = 0.0;
   VecX q, v, a, lambda;
+  /// Generalized-alpha's acceleration-like history variable [m/s^2]; empty elsewhere (and at
+  /// the start, where it equals a).
+  VecX pseudoAcc;
 };
 
 /// State together with d(state)/dp_k for each design parameter k (same layout).

@@ -755,10 +755,11 @@ class Builder {
   // --------------------------------------------------------------------- integrator
   void readIntegrator(const YAML::Node& in, IntegratorSettings& s) {
     r_.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
-                                    "max_newton_iterations", "frame_interval", "sensitivity_error_control"});
+                                    "max_newton_iterations", "frame_interval", "sensitivity_error_control",
+                                    "rho_inf"});
     s.type = r_.text(r_.require(in, "type", "integrator"), "integrator.type");
-    if (s.type != "idas" && s.type != "trapezoidal" && s.type != "bdf1" && s.type != "maggi_rk4")
-      r_.fail(in["type"], "integrator.type", "expected idas, trapezoidal, bdf1 or maggi_rk4, got '" + s.type + "'");
+    if (!isIntegratorType(s.type))
+      r_.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
     s.tEnd = r_.positive(r_.require(in, "t_end", "integrator"), "integrator.t_end");
     if (in["dt"]) s.dt = r_.positive(in["dt"], "integrator.dt");
     else if (s.type != "idas") r_.require(in, "dt", "integrator");
@@ -772,6 +773,10 @@ class Builder {
     }
     s.frameInterval = in["frame_interval"] ? r_.positive(in["frame_interval"], "integrator.frame_interval")
                                            : std::max(s.dt, s.tEnd / 200.0);
+    if (in["rho_inf"]) {
+      s.rhoInf = r_.number(in["rho_inf"], "integrator.rho_inf");
+      if (!(s.rhoInf >= 0.0 && s.rhoInf <= 1.0)) r_.fail(in["rho_inf"], "integrator.rho_inf", "expected a number in [0, 1]");
+    }
     if (in["sensitivity_error_control"])
       s.sensitivityErrorControl = r_.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
   }
