@@ -47,6 +47,11 @@ struct Scheme {
       vbar = VecX::Zero(n.v.size());
       return;
     }
+    if (trapezoidal) {  // the general formulas below with w = a, in the original arithmetic
+      abar = -4.0 / h * n.v - n.a;
+      vbar = -n.v;
+      return;
+    }
     const VecX& w = pseudo(n);
     const VecX jump = n.v / (beta * h) + (0.5 - beta) / beta * w;  // -(w_{n+1} at q = q_n)
     abar = (-(1.0 - am) * jump + am * w - af * n.a) / (1.0 - af);
@@ -54,7 +59,7 @@ struct Scheme {
   }
   /// w_{n+1} from a_{n+1} (also for sensitivities); empty for BDF-1.
   VecX nextPseudo(const State& n, const VecX& aNext) const {
-    if (bdf1) return VecX();
+    if (bdf1 || trapezoidal) return VecX();  // trapezoidal: w = a
     return ((1.0 - af) * aNext + af * n.a - am * pseudo(n)) / (1.0 - am);
   }
 };
