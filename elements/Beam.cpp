@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "elements/AutoDiff.hpp"
+#include "elements/KernelElementAD.hpp"
 
 namespace flexsens {
 
@@ -47,7 +47,7 @@ VecX gravityOf(const LocalState& s) {
 // ---------------------------------------------------------------- BeamSegment
 BeamSegment::BeamSegment(std::string name, std::vector<int> nodes,
                          std::shared_ptr<BeamSection> section, double restLength)
-    : Element(std::move(name), std::move(nodes)), sec_(std::move(section)), L_(restLength) {
+    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)), L_(restLength) {
   if (this->nodes().size() != 2) throw std::invalid_argument("beam_segment " + this->name() + ": needs 2 nodes");
   if (!sec_) throw std::invalid_argument("beam_segment " + this->name() + ": no section");
   if (!(L_ > 0.0)) throw std::invalid_argument("beam_segment " + this->name() + ": rest length must be > 0");
@@ -67,7 +67,8 @@ double segmentAxis(const Element& e, const LocalState& s, VecX& n) {
 
 // Value templates: props = (E, density, A source).
 template <class T>
-MatT<T> BeamSegment::massT(int d, const VecT<T>& props) const {
+MatT<T> BeamSegment::massT(const LocalState& s, const VecT<T>& props) const {
+  const int d = s.dim;
   const T rhoA = props[1] * sec_->areaOf(props[2]);  // [kg/m]
   const T m6 = rhoA * L_ / 6.0;                      // [kg]
   MatT<T> M = MatT<T>::Zero(2 * d, 2 * d);
@@ -99,30 +100,6 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
     Q[d + i] = -N * n[i] + w * g[i];
   }
   return Q;
-}
-
-bool BeamSegment::mass(const LocalState& s, MatX& M) const {
-  M = massT<double>(s.dim, ad::propertyValues(kernelProperties(), *s.p));
-  return true;
-}
-
-void BeamSegment::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void BeamSegment::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool BeamSegment::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  const VecX props = ad::propertyValues(kernelProperties(), *s.p);
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s, props, dir);
-  dM = ad::massParameterDerivative([&](const auto& pr) { return massT(s.dim, pr); }, props, dir);
-  return true;
 }
 
 void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -178,7 +155,7 @@ double BeamHinge::angle(const VecX& x) {
 
 BeamHinge::BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
                      const VecX& restX, double voronoiLength)
-    : Element(std::move(name), std::move(nodes)), sec_(std::move(section)) {
+    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)) {
   const std::string who = "beam_hinge " + this->name();
   if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
   if (!sec_) throw std::invalid_argument(who + ": no section");
@@ -243,25 +220,6 @@ VecT<T> BeamHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
   return Q;
 }
 
-void BeamHinge::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void BeamHinge::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool BeamHinge::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
-      ad::propertyValues(kernelProperties(), *s.p), dir);
-  dM.resize(0, 0);  // massless
-  return true;
-}
-
 void BeamHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecX g;
   MatX H;
@@ -284,5 +242,8 @@ double BeamHinge::potential(const LocalState& s) const {
   const double dphi = deviation(s, nullptr, nullptr);
   return 0.5 * (sec_->EI(*s.p) / D_) * dphi * dphi;  // [J]
 }
+
+template class KernelElement<BeamSegment>;
+template class KernelElement<BeamHinge>;
 
 }  // namespace flexsens

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/Element.hpp"
+#include "elements/KernelElement.hpp"
 
 namespace flexsens {
 
@@ -63,31 +63,29 @@ struct BeamSection {
 
 /// Two-node axial segment (dim 2 or 3): U = 1/2 EA L eps^2, eps = (l - L)/L; consistent mass
 /// (rho A L / 6) [[2I, I], [I, 2I]]; gravity rho A L g / 2 on each node.
-class BeamSegment : public Element {
+class BeamSegment : public KernelElement<BeamSegment> {
  public:
   /// restLength L [m] > 0, the node distance in the rest shape.
   BeamSegment(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
               double restLength);
   std::string kind() const override { return "beam_segment"; }
-  bool mass(const LocalState& s, MatX& M) const override;
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
   double restLength() const { return L_; }
 
  private:
+  friend class KernelElement<BeamSegment>;
   /// Properties the kernels read, in the order of their props vector: (E, density, A source).
   std::vector<const Quantity*> kernelProperties() const {
     return {&sec_->E, &sec_->density, &sec_->areaSource()};
   }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  static constexpr bool hasMassKernel = true;
   template <class T>
-  MatT<T> massT(int dim, const VecT<T>& props) const;
+  MatT<T> massT(const LocalState& s, const VecT<T>& props) const;
   std::shared_ptr<BeamSection> sec_;
   double L_;
 };
@@ -95,18 +93,15 @@ class BeamSegment : public Element {
 /// Three-node planar bending hinge at node b between e1 = x_b - x_a and e2 = x_c - x_b:
 /// phi = atan2(e1 x e2, e1 . e2), U = 1/2 (EI / D) (phi - phi0)^2, D = (L1 + L2)/2 [m].
 /// Massless, no gravity. Planar only (dim 2).
-class BeamHinge : public Element {
+class BeamHinge : public KernelElement<BeamHinge> {
  public:
   /// restX: rest positions of a, b, c (6 entries) giving phi0, L1, L2. voronoiLength > 0
   /// overrides D (e.g. D = L2/2 at a clamp whose node a is a ghost outside the beam).
   BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
             const VecX& restX, double voronoiLength = 0.0);
   std::string kind() const override { return "beam_hinge"; }
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
   double restAngle() const { return phi0_; }
@@ -115,6 +110,7 @@ class BeamHinge : public Element {
   static double angle(const VecX& x);
 
  private:
+  friend class KernelElement<BeamHinge>;
   /// (phi - phi0) wrapped to (-pi, pi], and optionally dphi/dx (6) and d2phi/dx2 (6x6).
   double deviation(const LocalState& s, VecX* g, MatX* H) const;
   /// Properties the kernel reads, in the order of its props vector: (E, I source).

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "elements/AutoDiff.hpp"
+#include "elements/KernelElementAD.hpp"
 
 namespace flexsens {
 
@@ -97,7 +97,7 @@ Eigen::Vector3d BeamHinge3D::curvatureBinormal(const VecX& x) {
 
 BeamHinge3D::BeamHinge3D(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
                          const VecX& restX, double voronoiLength)
-    : Element(std::move(name), std::move(nodes)), sec_(std::move(section)) {
+    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)) {
   const std::string who = "beam_hinge3d " + this->name();
   if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
   if (!sec_) throw std::invalid_argument(who + ": no section");
@@ -205,25 +205,6 @@ VecT<T> BeamHinge3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   return Q;
 }
 
-void BeamHinge3D::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void BeamHinge3D::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool BeamHinge3D::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
-      ad::propertyValues(kernelProperties(), *s.p), dir);
-  dM.resize(0, 0);  // massless
-  return true;
-}
-
 void BeamHinge3D::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecX g;
   MatX H;
@@ -254,5 +235,7 @@ double BeamHinge3D::potential(const LocalState& s) const {
   const double dev = std::sqrt(f) - psi0_;  // |kb| - psi0 [-]
   return 0.5 * (sec_->EI(*s.p) / D_) * dev * dev;  // [J]
 }
+
+template class KernelElement<BeamHinge3D>;
 
 }  // namespace flexsens

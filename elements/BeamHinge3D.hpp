@@ -36,7 +36,7 @@
 
 namespace flexsens {
 
-class BeamHinge3D : public Element {
+class BeamHinge3D : public KernelElement<BeamHinge3D> {
  public:
   /// Rest curvatures |kb| below this are treated as exactly straight (psi0 = 0) [-].
   static constexpr double kStraightRest = 1e-9;
@@ -48,11 +48,8 @@ class BeamHinge3D : public Element {
   BeamHinge3D(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
               const VecX& restX, double voronoiLength = 0.0);
   std::string kind() const override { return "beam_hinge3d"; }
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
 
@@ -64,6 +61,7 @@ class BeamHinge3D : public Element {
   static Eigen::Vector3d curvatureBinormal(const VecX& x);
 
  private:
+  friend class KernelElement<BeamHinge3D>;
   void checkDim(const LocalState& s) const;
   /// f = |kb|^2 of s.x, and optionally its gradient (9) and Hessian (9x9) in x.
   double curvatureSquared(const LocalState& s, VecX* g, MatX* H) const;

@@ -3,12 +3,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "elements/AutoDiff.hpp"
+#include "elements/KernelElementAD.hpp"
 
 namespace flexsens {
 
 PointForce::PointForce(std::string name, int node, std::vector<Quantity> components)
-    : Element(std::move(name), {node}), F_(std::move(components)) {
+    : KernelElement(std::move(name), {node}), F_(std::move(components)) {
   if (F_.size() != 2 && F_.size() != 3) {
     std::ostringstream os;
     os << "point force '" << this->name() << "': expected 2 (planar) or 3 (spatial) components, got "
@@ -42,25 +42,9 @@ VecT<T> PointForce::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
   return Q;
 }
 
-void PointForce::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void PointForce::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  checkDim(s);
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
 bool PointForce::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  checkDim(s);
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
-      ad::propertyValues(kernelProperties(), *s.p), dir);
-  dM.resize(0, 0);  // massless
-  return true;
+  checkDim(s);  // also when no component is bound to k
+  return KernelElement::parameterDerivativeAD(s, k, dQ, dM);
 }
 
 void PointForce::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -95,5 +79,7 @@ std::vector<std::pair<std::string, Quantity*>> PointForce::properties() {
   for (size_t c = 0; c < F_.size(); ++c) r.emplace_back(names[c], &F_[c]);
   return r;
 }
+
+template class KernelElement<PointForce>;
 
 }  // namespace flexsens

@@ -9,19 +9,17 @@
 #include <utility>
 #include <vector>
 
-#include "core/Element.hpp"
+#include "elements/KernelElement.hpp"
 
 namespace flexsens {
 
-class PointForce : public Element {
+class PointForce : public KernelElement<PointForce> {
  public:
   /// components: dim entries [N] (2 planar, 3 spatial), in the order of the node's coordinates.
   PointForce(std::string name, int node, std::vector<Quantity> components);
   std::string kind() const override { return "point_force"; }
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   /// "x", "y", "z" by component index 0, 1, 2 (the node's coordinate order).
@@ -29,6 +27,7 @@ class PointForce : public Element {
   int components() const { return static_cast<int>(F_.size()); }
 
  private:
+  friend class KernelElement<PointForce>;
   void checkDim(const LocalState& s) const;
   /// Properties the kernel reads, in the order of its props vector: the components.
   std::vector<const Quantity*> kernelProperties() const;

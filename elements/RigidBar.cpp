@@ -3,14 +3,15 @@
 #include <cmath>
 #include <sstream>
 
-#include "elements/AutoDiff.hpp"
+#include "elements/KernelElementAD.hpp"
 
 namespace flexsens {
 
 // ------------------------------------------------------------------------------ rigid bar
 // Value templates: props = (m).
 template <class T>
-MatT<T> RigidBar::massT(int d, const VecT<T>& props) const {
+MatT<T> RigidBar::massT(const LocalState& s, const VecT<T>& props) const {
+  const int d = s.dim;
   const T& m = props[0];
   MatT<T> M = MatT<T>::Zero(2 * d, 2 * d);
   for (int i = 0; i < d; ++i) {
@@ -29,30 +30,6 @@ VecT<T> RigidBar::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
   VecT<T> Q(2 * d);
   for (int i = 0; i < d; ++i) Q[i] = Q[d + i] = 0.5 * m * g[i];
   return Q;
-}
-
-bool RigidBar::mass(const LocalState& s, MatX& M) const {
-  M = massT<double>(s.dim, ad::propertyValues(kernelProperties(), *s.p));
-  return true;
-}
-
-void RigidBar::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void RigidBar::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool RigidBar::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  const VecX props = ad::propertyValues(kernelProperties(), *s.p);
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s, props, dir);
-  dM = ad::massParameterDerivative([&](const auto& pr) { return massT(s.dim, pr); }, props, dir);
-  return true;
 }
 
 void RigidBar::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -124,25 +101,6 @@ VecT<T> SpringDamper::forceT(const LocalState& s, const VecT<T>& x, const VecT<T
   return Q;
 }
 
-void SpringDamper::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void SpringDamper::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool SpringDamper::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
-      ad::propertyValues(kernelProperties(), *s.p), dir);
-  dM.resize(0, 0);  // massless
-  return true;
-}
-
 void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   const int d = s.dim;
   const Geometry g = geometry(s);
@@ -179,5 +137,8 @@ double SpringDamper::potential(const LocalState& s) const {
   const double e = (s.x.tail(d) - s.x.head(d)).norm() - s.value(L0_);
   return 0.5 * s.value(k_) * e * e;
 }
+
+template class KernelElement<RigidBar>;
+template class KernelElement<SpringDamper>;
 
 }  // namespace flexsens

@@ -3,53 +3,49 @@
 // half the weight on each end. Rigidity comes from a distance constraint the builder adds.
 #pragma once
 
-#include "core/Element.hpp"
+#include "elements/KernelElement.hpp"
 
 namespace flexsens {
 
-class RigidBar : public Element {
+class RigidBar : public KernelElement<RigidBar> {
  public:
   RigidBar(std::string name, int a, int b, Quantity mass)
-      : Element(std::move(name), {a, b}), mass_(mass) {}
+      : KernelElement(std::move(name), {a, b}), mass_(mass) {}
   std::string kind() const override { return "rigid_bar"; }
-  bool mass(const LocalState& s, MatX& M) const override;
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"mass", &mass_}};
   }
 
  private:
+  friend class KernelElement<RigidBar>;
   /// Properties the kernels read, in the order of their props vector: (mass).
   std::vector<const Quantity*> kernelProperties() const { return {&mass_}; }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  static constexpr bool hasMassKernel = true;
   template <class T>
-  MatT<T> massT(int dim, const VecT<T>& props) const;
+  MatT<T> massT(const LocalState& s, const VecT<T>& props) const;
   Quantity mass_;  ///< [kg]
 };
 
 /// Massless linear spring-damper: tension f = k (l - L0) + c l', acting along the line of nodes.
-class SpringDamper : public Element {
+class SpringDamper : public KernelElement<SpringDamper> {
  public:
   SpringDamper(std::string name, int a, int b, Quantity k, Quantity c, Quantity L0)
-      : Element(std::move(name), {a, b}), k_(k), c_(c), L0_(L0) {}
+      : KernelElement(std::move(name), {a, b}), k_(k), c_(c), L0_(L0) {}
   std::string kind() const override { return "spring_damper"; }
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"stiffness", &k_}, {"damping", &c_}, {"natural_length", &L0_}};
   }
 
  private:
+  friend class KernelElement<SpringDamper>;
   struct Geometry;
   Geometry geometry(const LocalState& s) const;
   [[noreturn]] void coincidentNodes(double l) const;

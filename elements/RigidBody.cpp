@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "elements/AutoDiff.hpp"
+#include "elements/KernelElementAD.hpp"
 
 namespace flexsens {
 
@@ -21,7 +21,7 @@ Eigen::Matrix3d RigidBody::secondMoments(const Eigen::Matrix3d& I) {
 
 RigidBody::RigidBody(std::string name, std::vector<int> basic, const Eigen::Matrix<double, 3, 4>& X0,
                      Quantity mass, const Eigen::Vector3d& com, const std::array<Quantity, 6>& inertia)
-    : Element(std::move(name), std::move(basic)), mass_(mass), inertia_(inertia) {
+    : KernelElement(std::move(name), std::move(basic)), mass_(mass), inertia_(inertia) {
   if (nodes().size() != 4) throw std::invalid_argument("rigid body " + this->name() + ": needs 4 basic points");
   Eigen::Matrix3d E;
   for (int j = 0; j < 3; ++j) E.col(j) = X0.col(j + 1) - X0.col(0);
@@ -48,7 +48,7 @@ std::vector<std::pair<std::string, Quantity*>> RigidBody::properties() {
 
 // Value templates: props = (m, Ixx, Iyy, Izz, Ixy, Ixz, Iyz).
 template <class T>
-MatT<T> RigidBody::massT(const VecT<T>& props) const {
+MatT<T> RigidBody::massT(const LocalState&, const VecT<T>& props) const {
   using M3 = Eigen::Matrix<T, 3, 3>;
   const T& m = props[0];
   M3 I;
@@ -87,14 +87,9 @@ VecT<T> RigidBody::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&, c
   return Q;
 }
 
-bool RigidBody::mass(const LocalState& s, MatX& M) const {
-  M = massT<double>(ad::propertyValues(kernelProperties(), *s.p));
-  return true;
-}
-
 void RigidBody::force(const LocalState& s, VecX& Q) const {
   if (s.dim != 3) throw std::invalid_argument("rigid body " + name() + ": spatial scenes only (dimension 3)");
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
+  KernelElement::force(s, Q);
 }
 
 void RigidBody::forceJacobian(const LocalState&, MatX& dQdq, MatX& dQdv) const {
@@ -110,23 +105,8 @@ bool RigidBody::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& 
   for (size_t i = 0; i < props.size(); ++i)
     if (props[i]->boundTo(k)) unit[i] = 1.0;
   if (unit.isZero()) return false;
-  dM = massT<double>(unit);
+  dM = massT<double>(s, unit);
   dQ = forceT<double>(s, s.x, s.v, unit);
-  return true;
-}
-
-void RigidBody::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool RigidBody::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  const VecX props = ad::propertyValues(kernelProperties(), *s.p);
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s, props, dir);
-  dM = ad::massParameterDerivative([&](const auto& pr) { return massT(pr); }, props, dir);
   return true;
 }
 
@@ -135,5 +115,7 @@ double RigidBody::potential(const LocalState& s) const {
   force(s, Q);
   return -Q.dot(s.x);  // -m g . r_G: Q . x = sum_k (int N_k dm) g . r_k = m g . r_G
 }
+
+template class KernelElement<RigidBody>;
 
 }  // namespace flexsens

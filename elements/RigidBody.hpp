@@ -13,11 +13,11 @@
 
 #include <array>
 
-#include "core/Element.hpp"
+#include "elements/KernelElement.hpp"
 
 namespace flexsens {
 
-class RigidBody : public Element {
+class RigidBody : public KernelElement<RigidBody> {
  public:
   /// basic: the four basic point node indices; X0: their initial positions (3 x 4 columns);
   /// com: centre of mass at t = 0 [m]; inertia: (Ixx, Iyy, Izz, Ixy, Ixz, Iyz), the tensor
@@ -26,12 +26,9 @@ class RigidBody : public Element {
   RigidBody(std::string name, std::vector<int> basic, const Eigen::Matrix<double, 3, 4>& X0,
             Quantity mass, const Eigen::Vector3d& com, const std::array<Quantity, 6>& inertia);
   std::string kind() const override { return "rigid_body"; }
-  bool mass(const LocalState& s, MatX& M) const override;
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override;
 
@@ -40,10 +37,12 @@ class RigidBody : public Element {
   static Eigen::Matrix3d secondMoments(const Eigen::Matrix3d& I);
 
  private:
+  friend class KernelElement<RigidBody>;
   /// Properties the kernels read, in the order of their props vector: (m, Ixx..Iyz).
   std::vector<const Quantity*> kernelProperties() const;
+  static constexpr bool hasMassKernel = true;
   template <class T>
-  MatT<T> massT(const VecT<T>& props) const;
+  MatT<T> massT(const LocalState& s, const VecT<T>& props) const;
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
   Quantity mass_;

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "elements/AutoDiff.hpp"
+#include "elements/KernelElementAD.hpp"
 
 namespace flexsens {
 
@@ -33,10 +33,6 @@ VecT<T> RotationalSpringDamper::forceT(const LocalState& s, const VecT<T>& x, co
   return VecT<T>(tau * g);
 }
 
-void RotationalSpringDamper::force(const LocalState& s, VecX& Q) const {
-  Q = forceT<double>(s, s.x, s.v, ad::propertyValues(kernelProperties(), *s.p));
-}
-
 void RotationalSpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecX g;
   const double theta = jointAngleT<double>(s.x, &g);
@@ -59,24 +55,11 @@ bool RotationalSpringDamper::parameterDerivative(const LocalState& s, int k, Vec
   return true;
 }
 
-void RotationalSpringDamper::forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  ad::forceJacobian([&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); },
-                    s, ad::propertyValues(kernelProperties(), *s.p), dQdq, dQdv);
-}
-
-bool RotationalSpringDamper::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  dQ = ad::forceParameterDerivative(
-      [&](const auto& x, const auto& v, const auto& pr) { return forceT(s, x, v, pr); }, s,
-      ad::propertyValues(kernelProperties(), *s.p), dir);
-  dM.resize(0, 0);
-  return true;
-}
-
 double RotationalSpringDamper::potential(const LocalState& s) const {
   const double d = deviation(jointAngleT<double>(s.x, nullptr));
   return 0.5 * s.value(k_) * d * d;  // [J]
 }
+
+template class KernelElement<RotationalSpringDamper>;
 
 }  // namespace flexsens

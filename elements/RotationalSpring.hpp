@@ -7,21 +7,18 @@
 // Units: k [N m/rad], c [N m s/rad], angles [rad].
 #pragma once
 
-#include "core/Element.hpp"
+#include "elements/KernelElement.hpp"
 #include "elements/JointAngle.hpp"
 
 namespace flexsens {
 
-class RotationalSpringDamper : public Element {
+class RotationalSpringDamper : public KernelElement<RotationalSpringDamper> {
  public:
   RotationalSpringDamper(std::string name, const AngleNodes& nodes, Quantity k, Quantity c, double restAngle)
-      : Element(std::move(name), nodes.list()), k_(k), c_(c), theta0_(restAngle) {}
+      : KernelElement(std::move(name), nodes.list()), k_(k), c_(c), theta0_(restAngle) {}
   std::string kind() const override { return "rotational_spring_damper"; }
-  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
-  void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"stiffness", &k_}, {"damping", &c_}};
@@ -29,6 +26,7 @@ class RotationalSpringDamper : public Element {
   double restAngle() const { return theta0_; }
 
  private:
+  friend class KernelElement<RotationalSpringDamper>;
   /// theta - theta0 wrapped to (-pi, pi]; throws NumericalError past ~0.95 pi.
   double deviation(double theta) const;
   std::vector<const Quantity*> kernelProperties() const { return {&k_, &c_}; }

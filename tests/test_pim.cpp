@@ -246,11 +246,12 @@ TEST(Pim, IdasSensitivitiesMatchFiniteDifferencesRigidCases) {
 // excited, so even its discrete sensitivities scatter by ~1e-4 relative as dt shrinks (F5 at
 // t = 2 s: dt = 1e-4, 5e-5, 2.5e-5, 1.25e-5 give 0.133659, 0.133662, 0.133663, 0.133650),
 // while IDAS converges in rtol (1e-9, 1e-10, 1e-11 give 0.13363737, 0.13363742, 0.13363742).
-// Measured agreement with the dt = 1e-4 references: 1e-6 ... 5e-5 relative, and 1.8e-5
-// absolute on F2's near-zero value at 2 s. Bound: 1e-4 relative or 2e-5 absolute.
+// Measured agreement with the dt = 1e-4 references: 1e-6 ... 5e-5 relative, 1.8e-5 absolute
+// on F2's near-zero value at 2 s and 1.9e-5 on F5 at 2 s. The bound must cover the
+// references' own scatter, up to 2.6e-5 absolute (F5 above): 1e-4 relative or 3e-5 absolute.
 TEST(Pim, IdasSensitivitiesMatchFiniteDifferencesFlexibleCases) {
   for (const char* name : {"F1", "F2", "F3", "F4", "F5", "F6"})
-    checkIdasCase(name, {0.5, 1.0, 2.0}, 1e-4, 1e-4, 2e-5);
+    checkIdasCase(name, {0.5, 1.0, 2.0}, 1e-4, 1e-4, 3e-5);
 }
 
 // Converged reference: the trapezoidal rule's exact discrete sensitivities at dt = 5e-5 s
