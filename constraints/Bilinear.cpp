@@ -1,11 +1,11 @@
 #include "constraints/Bilinear.hpp"
 
-#include "elements/AutoDiff.hpp"
+#include "constraints/KernelConstraintAD.hpp"
 
 namespace flexsens {
 
 template <class T>
-VecT<T> BilinearConstraint::phiT(const VecT<T>& x, const VecT<T>&) const {
+VecT<T> BilinearConstraint::phiT(const LocalState&, const VecT<T>& x, const VecT<T>&) const {
   VecT<T> a = N_.cast<T>() * x, b = W_.cast<T>() * x;
   for (int i = 0; i < 3; ++i) {
     a[i] += a0_[i];
@@ -16,19 +16,9 @@ VecT<T> BilinearConstraint::phiT(const VecT<T>& x, const VecT<T>&) const {
   return out;
 }
 
-void BilinearConstraint::phi(const LocalState& s, VecX& out) const { out = phiT<double>(s.x, VecX()); }
-
 void BilinearConstraint::jacobian(const LocalState& s, MatX& J) const {
   // d/dx [(N x + a0) . (W x + b0)] = (W x + b0)^T N + (N x + a0)^T W
   J = (W_ * s.x + b0_).transpose() * N_ + (N_ * s.x + a0_).transpose() * W_;
-}
-
-void BilinearConstraint::jacobianAD(const LocalState& s, MatX& J) const {
-  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX());
-}
-
-void BilinearConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
-  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX(), r);
 }
 
 std::unique_ptr<BilinearConstraint> BilinearConstraint::perpendicular(std::string name, std::vector<int> nodes,
@@ -76,5 +66,7 @@ std::unique_ptr<BilinearConstraint> BilinearConstraint::pointOnFixedPlane(std::s
                                               MatX::Zero(3, 3), normal.normalized(), MatX::Identity(3, 3),
                                               Eigen::Vector3d(-origin), 0.0);
 }
+
+template class KernelConstraint<BilinearConstraint>;
 
 }  // namespace flexsens

@@ -11,27 +11,22 @@
 
 #include <memory>
 
-#include "core/Element.hpp"
+#include "constraints/KernelConstraint.hpp"
 
 namespace flexsens {
 
-class BilinearConstraint : public Constraint {
+class BilinearConstraint : public KernelConstraint<BilinearConstraint> {
  public:
   /// N, W: 3 x (3 nodes.size()); a0, b0: constant parts (space-fixed vectors) [m].
   BilinearConstraint(std::string name, std::string kind, std::vector<int> nodes, MatX N, Eigen::Vector3d a0,
                      MatX W, Eigen::Vector3d b0, double c0)
-      : Constraint(std::move(name), std::move(nodes)), kind_(std::move(kind)), N_(std::move(N)),
+      : KernelConstraint(std::move(name), std::move(nodes)), kind_(std::move(kind)), N_(std::move(N)),
         W_(std::move(W)), a0_(a0), b0_(b0), c0_(c0), H_(N_.transpose() * W_ + W_.transpose() * N_) {}
   std::string kind() const override { return kind_; }
   int rows() const override { return 1; }
-  void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState&, int, MatX& H) const override { H = H_; }
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
-  void jacobianAD(const LocalState& s, MatX& J) const override;
-  void hessianAD(const LocalState& s, int r, MatX& H) const override;
-  /// No properties: the geometry is fixed at build time.
-  bool parameterDerivativeAD(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 
   /// (x_b - x_a) . (x_d - x_c) = c0 on nodes (a, b, c, d).
@@ -48,8 +43,11 @@ class BilinearConstraint : public Constraint {
                                                               const Eigen::Vector3d& normal);
 
  private:
+  friend class KernelConstraint<BilinearConstraint>;
+  /// No properties: the geometry is fixed at build time.
+  std::vector<const Quantity*> kernelProperties() const { return {}; }
   template <class T>
-  VecT<T> phiT(const VecT<T>& x, const VecT<T>& props) const;
+  VecT<T> phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const;
   std::string kind_;
   MatX N_, W_;
   Eigen::Vector3d a0_, b0_;

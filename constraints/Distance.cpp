@@ -1,6 +1,6 @@
 #include "constraints/Distance.hpp"
 
-#include "elements/AutoDiff.hpp"
+#include "constraints/KernelConstraintAD.hpp"
 
 namespace flexsens {
 
@@ -14,29 +14,6 @@ VecT<T> DistanceConstraint::phiT(const LocalState& s, const VecT<T>& x, const Ve
   VecT<T> out(1);
   out[0] = dx.squaredNorm() - L * L;
   return out;
-}
-
-void DistanceConstraint::phi(const LocalState& s, VecX& out) const {
-  out = phiT<double>(s, s.x, ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void DistanceConstraint::jacobianAD(const LocalState& s, MatX& J) const {
-  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s,
-                             ad::propertyValues(kernelProperties(), *s.p));
-}
-
-void DistanceConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
-  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s,
-                            ad::propertyValues(kernelProperties(), *s.p), r);
-}
-
-bool DistanceConstraint::parameterDerivativeAD(const LocalState& s, int k, VecX& dphi,
-                                               MatX& dJ) const {
-  const VecX dir = ad::propertyDirection(kernelProperties(), k);
-  if (dir.isZero()) return false;
-  ad::constraintParameterDerivative([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s,
-                                    ad::propertyValues(kernelProperties(), *s.p), dir, dphi, dJ);
-  return true;
 }
 
 void DistanceConstraint::jacobian(const LocalState& s, MatX& J) const {
@@ -71,16 +48,7 @@ VecT<T> FixedNodeConstraint::phiT(const LocalState&, const VecT<T>& x, const Vec
   return out;
 }
 
-void FixedNodeConstraint::phi(const LocalState& s, VecX& out) const {
-  out = phiT<double>(s, s.x, VecX());
-}
-
-void FixedNodeConstraint::jacobianAD(const LocalState& s, MatX& J) const {
-  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s, VecX());
-}
-
-void FixedNodeConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
-  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(s, x, pr); }, s, VecX(), r);
-}
+template class KernelConstraint<DistanceConstraint>;
+template class KernelConstraint<FixedNodeConstraint>;
 
 }  // namespace flexsens

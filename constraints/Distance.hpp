@@ -1,29 +1,26 @@
 // Constraints between node coordinates. All are at most quadratic in q (constant Hessians).
 #pragma once
 
-#include "core/Element.hpp"
+#include "constraints/KernelConstraint.hpp"
 
 namespace flexsens {
 
 /// Constant distance: Phi = |x_b - x_a|^2 - L^2 (quadratic form, as in the paper).
-class DistanceConstraint : public Constraint {
+class DistanceConstraint : public KernelConstraint<DistanceConstraint> {
  public:
   DistanceConstraint(std::string name, int a, int b, Quantity length)
-      : Constraint(std::move(name), {a, b}), length_(length) {}
+      : KernelConstraint(std::move(name), {a, b}), length_(length) {}
   std::string kind() const override { return "distance"; }
   int rows() const override { return 1; }
-  void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
-  void jacobianAD(const LocalState& s, MatX& J) const override;
-  void hessianAD(const LocalState& s, int r, MatX& H) const override;
-  bool parameterDerivativeAD(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"length", &length_}};
   }
 
  private:
+  friend class KernelConstraint<DistanceConstraint>;
   /// Properties the kernel reads, in the order of its props vector: (L).
   std::vector<const Quantity*> kernelProperties() const { return {&length_}; }
   template <class T>
@@ -32,13 +29,12 @@ class DistanceConstraint : public Constraint {
 };
 
 /// Fixed node: Phi = x - x_fix (dim rows), for free nodes held in place.
-class FixedNodeConstraint : public Constraint {
+class FixedNodeConstraint : public KernelConstraint<FixedNodeConstraint> {
  public:
   FixedNodeConstraint(std::string name, int node, VecX position)
-      : Constraint(std::move(name), {node}), position_(std::move(position)) {}
+      : KernelConstraint(std::move(name), {node}), position_(std::move(position)) {}
   std::string kind() const override { return "fixed"; }
   int rows() const override { return static_cast<int>(position_.size()); }
-  void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override {
     J = MatX::Identity(s.x.size(), s.x.size());
   }
@@ -46,13 +42,12 @@ class FixedNodeConstraint : public Constraint {
     H.setZero(s.x.size(), s.x.size());
   }
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
-  void jacobianAD(const LocalState& s, MatX& J) const override;
-  void hessianAD(const LocalState& s, int r, MatX& H) const override;
-  /// No properties: never depends on a parameter (the fixed position is a constant).
-  bool parameterDerivativeAD(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 
  private:
+  friend class KernelConstraint<FixedNodeConstraint>;
+  /// No properties: never depends on a parameter (the fixed position is a constant).
+  std::vector<const Quantity*> kernelProperties() const { return {}; }
   /// Value template (no properties: props is empty).
   template <class T>
   VecT<T> phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const;

@@ -5,7 +5,8 @@
 //   element force   Q(x, v, props)      -> VecT<T>
 //   element mass    M(props)            -> MatT<T>
 //   constraint      Phi(x, props)       -> VecT<T>
-// where props are the values of the Quantities the kernel reads, in a fixed order. A seed
+// where props are the values of the Quantities the kernel reads, in a fixed order (the CRTP
+// bases KernelElement / KernelConstraint bind the LocalState and pass these callables). A seed
 // matrix S (inputs x variables) makes input i the active scalar x_i + S(i, :) z at z = 0, so
 // independent variables (S = I), a parameter direction (one column: 1 on every property
 // bound to the parameter) and constants (S = 0) are all the same call.

@@ -3,13 +3,13 @@
 #include <sstream>
 
 #include "constraints/Distance.hpp"
-#include "elements/AutoDiff.hpp"
+#include "constraints/KernelConstraintAD.hpp"
 
 namespace flexsens {
 
 AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<int> nodes,
                                                  VecX coefficients, int dim)
-    : Constraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim) {
+    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim) {
   const int k = static_cast<int>(c_.size());
   const MatX I = MatX::Identity(dim, dim);
   J_.setZero(dim, dim * (k + 2));
@@ -20,7 +20,7 @@ AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<i
 
 // Value template: Lambda_i = J_ x (linear; J_ holds the coefficients, see the constructor).
 template <class T>
-VecT<T> AttachedPointConstraint::phiT(const VecT<T>& x, const VecT<T>&) const {
+VecT<T> AttachedPointConstraint::phiT(const LocalState&, const VecT<T>& x, const VecT<T>&) const {
   VecT<T> out(J_.rows());
   for (int r = 0; r < J_.rows(); ++r) {
     T sum = J_(r, 0) * x[0];
@@ -30,15 +30,8 @@ VecT<T> AttachedPointConstraint::phiT(const VecT<T>& x, const VecT<T>&) const {
   return out;
 }
 
-void AttachedPointConstraint::phi(const LocalState& s, VecX& out) const {
-  out = phiT<double>(s.x, VecX());
-}
-void AttachedPointConstraint::jacobianAD(const LocalState& s, MatX& J) const {
-  J = ad::constraintJacobian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX());
-}
-void AttachedPointConstraint::hessianAD(const LocalState& s, int r, MatX& H) const {
-  H = ad::constraintHessian([&](const auto& x, const auto& pr) { return phiT(x, pr); }, s, VecX(), r);
-}
+template class KernelConstraint<AttachedPointConstraint>;
+
 void AttachedPointConstraint::jacobian(const LocalState&, MatX& J) const { J = J_; }
 void AttachedPointConstraint::hessian(const LocalState&, int, MatX& H) const {
   H.setZero(J_.cols(), J_.cols());

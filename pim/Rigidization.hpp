@@ -11,30 +11,29 @@
 #include <string>
 #include <vector>
 
+#include "constraints/KernelConstraint.hpp"
 #include "core/Model.hpp"
 
 namespace flexsens {
 
 /// Linear constraint Lambda_i = r_i - r_A - sum_j c_j (r_Bj - r_A); nodes = (A, B.., i).
-class AttachedPointConstraint : public Constraint {
+class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint> {
  public:
   AttachedPointConstraint(std::string name, std::vector<int> nodes, VecX coefficients, int dim);
   std::string kind() const override { return "attached_point"; }
   int rows() const override { return dim_; }
-  void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
-  void jacobianAD(const LocalState& s, MatX& J) const override;
-  void hessianAD(const LocalState& s, int r, MatX& H) const override;
-  /// No properties: never depends on a parameter (the coefficients are constants).
-  bool parameterDerivativeAD(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 
  private:
-  /// Value template (no properties: props is empty).
+  friend class KernelConstraint<AttachedPointConstraint>;
+  /// No properties: never depends on a parameter (the coefficients are constants).
+  std::vector<const Quantity*> kernelProperties() const { return {}; }
+  /// Value template (props is empty).
   template <class T>
-  VecT<T> phiT(const VecT<T>& x, const VecT<T>& props) const;
+  VecT<T> phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const;
   VecX c_;
   int dim_;
   MatX J_;  ///< constant Jacobian, dim x dim*(k+2)
