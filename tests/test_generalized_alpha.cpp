@@ -141,7 +141,9 @@ TEST(GeneralizedAlpha, SensitivitiesAreTheDerivativeOfTheDiscreteScheme) {
   }
 }
 
-TEST(GeneralizedAlpha, RhoInfOutsideZeroToOneNamesTheKey) {
+TEST(GeneralizedAlpha, RhoInfOutsideZeroToOneSaysWhatWasExpected) {
+  // File, line, key, exit status and "nothing written" are checked for the CLI by the bad
+  // scene tests/scenes/bad/bad_rho_inf.yaml; here the message's expectation.
   std::string text = R"(
 dimension: 2
 nodes:
