@@ -55,4 +55,7 @@ class BilinearConstraint : public KernelConstraint<BilinearConstraint> {
   MatX H_;
 };
 
+// Instantiated once, in the .cpp (its kernel templates are not visible elsewhere).
+extern template class KernelConstraint<BilinearConstraint>;
+
 }  // namespace flexsens

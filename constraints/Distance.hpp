@@ -54,4 +54,8 @@ class FixedNodeConstraint : public KernelConstraint<FixedNodeConstraint> {
   VecX position_;  ///< [m]
 };
 
+// Instantiated once, in the .cpp (its kernel templates are not visible elsewhere).
+extern template class KernelConstraint<DistanceConstraint>;
+extern template class KernelConstraint<FixedNodeConstraint>;
+
 }  // namespace flexsens

@@ -1,0 +1,39 @@
+#include "scene/KindTable.hpp"
+
+namespace flexsens {
+
+std::string KindTable::names() const {
+  std::string out;
+  size_t i = 0;
+  for (const auto& [name, fn] : readers) {
+    out += (i == 0 ? "" : (i + 1 == readers.size() ? " or " : ", ")) + name;
+    ++i;
+  }
+  return out;
+}
+
+// An explicit table rather than self-registering statics: the core is a static library, and
+// the linker drops object files nothing references, registrations included.
+const KindTable& elementKinds() {
+  static const KindTable t{{
+      {"beam", readBeam},
+      {"rigid_bar", readRigidBar},
+      {"rigid_body", readRigidBody},
+      {"rotational_spring_damper", readRotationalSpring},
+      {"spring_damper", readSpringDamper},
+  }};
+  return t;
+}
+
+const KindTable& constraintKinds() {
+  static const KindTable t{{
+      {"distance", readDistance},
+      {"fixed", readFixed},
+      {"perpendicular", readPerpendicular},
+      {"point_on_plane", readPointOnPlane},
+      {"spherical", readSpherical},
+  }};
+  return t;
+}
+
+}  // namespace flexsens

@@ -1,0 +1,102 @@
+// What a per-kind scene reader sees while the model is being built: the YAML reader (every
+// error with its file:line:column and key path), the model so far, and the name tables that
+// later items look things up in (nodes, bodies, rigid bodies, bindable properties).
+// One SceneContext lives for one readScene call; readers add to it, nothing else keeps it.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/Model.hpp"
+#include "elements/JointAngle.hpp"
+#include "scene/YamlReader.hpp"
+
+namespace flexsens {
+
+/// "list[i]": the key path of item i of a list.
+inline std::string at(const std::string& list, size_t i) { return list + "[" + std::to_string(i) + "]"; }
+
+class SceneContext {
+ public:
+  SceneContext(const std::string& file, Model& m) : r(file), m(m) {}
+
+  YamlReader r;
+  Model& m;
+
+  /// A flexible body (beam or spring) by name: its nodes, for PIM cases and point_on_plane.
+  struct Body {
+    std::vector<int> nodes;
+    const Quantity* pairLength;  ///< a spring's natural length (rigidized pairs keep it), else null
+  };
+  /// A 3D rigid body by name, for joints fixed to it and for SDOFs.
+  struct RigidBodyInfo {
+    std::vector<int> basic;          ///< the four basic points
+    Eigen::Matrix<double, 3, 4> X0;  ///< their initial positions [m]
+    Eigen::Vector3d com;             ///< centre of mass at t = 0 [m]
+    std::set<int> members;           ///< every node of the body
+  };
+  std::map<std::string, Body> bodies;
+  std::map<std::string, RigidBodyInfo> rigidBodies;
+  std::string geoFile;  ///< the scene's Gmsh geometry, if any
+
+  // ---------------------------------------------------------------- names and nodes
+  /// The node named by scalar `n`; fails naming the key if there is none.
+  int node(const YAML::Node& n, const std::string& path) const;
+  /// `item.nodes`: a list of minCount..maxCount distinct node names.
+  std::vector<int> nodeList(const YAML::Node& item, const std::string& path, size_t minCount,
+                            size_t maxCount, bool allowRepeat = false) const;
+  /// The item's `name` (or `fallback`), unique among elements and constraints.
+  std::string itemName(const YAML::Node& item, const std::string& path, const std::string& fallback);
+  void addNode(const Node& nd) {
+    nodeIndex_[nd.name] = static_cast<int>(m.nodes.size());
+    m.nodes.push_back(nd);
+  }
+  bool hasNode(const std::string& name) const { return nodeIndex_.count(name) > 0; }
+  int nodeIndex(const std::string& name) const { return nodeIndex_.at(name); }
+  /// A node placed by the geometry; a name met again must be at the same place.
+  int addGeometryNode(const std::string& name, const Eigen::Vector3d& x, const YAML::Node& at,
+                      const std::string& key);
+  /// The node chain of `el.curve` (a Physical Curve of the geometry) with `el.segments` segments.
+  std::vector<int> curveNodes(const YAML::Node& el, const std::string& path);
+
+  // ----------------------------------------------------------------------- geometry
+  double distance(int a, int b) const { return (m.nodes[a].position - m.nodes[b].position).norm(); }
+  /// A length given as a positive number or "auto" (the initial distance of nodes a and b);
+  /// `item` is the element or constraint (the error position when the key is absent).
+  Quantity length(const YAML::Node& item, const std::string& key, const std::string& path, int a, int b) const;
+  /// The initial positions of all nodes, one column each.
+  MatX positions() const;
+  /// "file:line:col: key 'key'", for errors raised below the reader (Gmsh, rigidization).
+  std::string where(const YAML::Node& n, const std::string& key) const;
+  void requireSpatial(const YAML::Node& item, const std::string& path, const std::string& what) const;
+  /// Nodes at fixed distances already: both ground, or both on one earlier rigid body.
+  bool linked(int a, int b) const;
+  /// Sets the initial velocity of a node, failing if another item gave it a different one.
+  void setVelocity(int id, const Eigen::Vector3d& v, const YAML::Node& item, const std::string& path);
+  void velocitySetBy(int id, const std::string& path) { velocitySetBy_[id] = path; }
+  /// `item.axis`, `item.from`, `item.to`: three node pairs of a signed joint angle.
+  AngleNodes angleNodes(const YAML::Node& item, const std::string& path) const;
+  /// The angle at the initial positions [rad]; fails where it is undefined.
+  double initialAngle(const AngleNodes& an, const YAML::Node& item, const std::string& path) const;
+
+  // --------------------------------------------------------------------- parameters
+  /// Makes `q` bindable as parameter property "<item>.<key>".
+  void bind(const std::string& key, Quantity* q) { bindings[key].push_back(q); }
+  template <class Props>
+  void bindAll(const std::string& item, Props&& props) {
+    for (auto& [k, q] : props) bind(item + "." + k, q);
+  }
+  std::map<std::string, std::vector<Quantity*>> bindings;
+
+ private:
+  std::map<std::string, int> nodeIndex_;
+  std::set<std::string> names_;
+  std::map<int, std::string> velocitySetBy_;  ///< node -> key path that set its initial velocity
+};
+
+}  // namespace flexsens

@@ -1,0 +1,73 @@
+// What to run and what to write: the `integrator`, `outputs` and `output` keys of a scene.
+#include <filesystem>
+
+#include "scene/SceneParts.hpp"
+
+namespace flexsens {
+
+void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
+  r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
+                                 "max_newton_iterations", "frame_interval", "sensitivity_error_control",
+                                 "rho_inf"});
+  s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
+  if (!isIntegratorType(s.type))
+    r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
+  s.tEnd = r.positive(r.require(in, "t_end", "integrator"), "integrator.t_end");
+  if (in["dt"]) s.dt = r.positive(in["dt"], "integrator.dt");
+  else if (s.type != "idas") r.require(in, "dt", "integrator");
+  else s.dt = 0.0;
+  if (in["rtol"]) s.rtol = r.positive(in["rtol"], "integrator.rtol");
+  if (in["atol"]) s.atol = r.positive(in["atol"], "integrator.atol");
+  if (in["newton_tol"]) s.newtonTol = r.positive(in["newton_tol"], "integrator.newton_tol");
+  if (in["max_newton_iterations"]) {
+    s.maxNewtonIterations = r.integer(in["max_newton_iterations"], "integrator.max_newton_iterations");
+    if (s.maxNewtonIterations < 1) r.fail(in["max_newton_iterations"], "integrator.max_newton_iterations", "expected at least 1");
+  }
+  s.frameInterval = in["frame_interval"] ? r.positive(in["frame_interval"], "integrator.frame_interval")
+                                         : std::max(s.dt, s.tEnd / 200.0);
+  if (in["rho_inf"]) {
+    s.rhoInf = r.number(in["rho_inf"], "integrator.rho_inf");
+    if (!(s.rhoInf >= 0.0 && s.rhoInf <= 1.0)) r.fail(in["rho_inf"], "integrator.rho_inf", "expected a number in [0, 1]");
+  }
+  if (in["sensitivity_error_control"])
+    s.sensitivityErrorControl = r.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
+}
+
+void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc) {
+  const YamlReader& r = ctx.r;
+  const Model& m = ctx.m;
+  r.requireList(list, "outputs");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node o = list[i];
+    const std::string path = at("outputs", i);
+    r.allowKeys(o, path, {"name", "node", "component", "angle"});
+    OutputSpec spec;
+    spec.name = r.text(r.require(o, "name", path), path + ".name");
+    for (const auto& other : sc.outputs)
+      if (other.name == spec.name) r.fail(o["name"], path + ".name", "duplicate output name '" + spec.name + "'");
+    if (o["angle"]) {  // signed angle [rad] from-vector -> to-vector about the axis
+      if (o["node"] || o["component"]) r.fail(o, path, "give either angle or node and component, not both");
+      if (m.dim != 3) r.fail(o["angle"], path + ".angle", "angle outputs need a spatial scene (dimension 3)");
+      r.allowKeys(o["angle"], path + ".angle", {"axis", "from", "to"});
+      const AngleNodes an = ctx.angleNodes(o["angle"], path + ".angle");
+      ctx.initialAngle(an, o["angle"], path + ".angle");
+      spec.angle = an.list();
+      sc.outputs.push_back(spec);
+      continue;
+    }
+    spec.node = ctx.node(r.require(o, "node", path), path + ".node");
+    spec.component = component(ctx, r.require(o, "component", path), path + ".component");
+    sc.outputs.push_back(spec);
+  }
+}
+
+void readOutputSettings(const YamlReader& r, const YAML::Node& o, Scene& sc) {
+  sc.output.directory = "results/" + std::filesystem::path(sc.file).stem().string();
+  if (!o) return;
+  r.allowKeys(o, "output", {"directory", "vtk", "plots"});
+  if (o["directory"]) sc.output.directory = r.text(o["directory"], "output.directory");
+  if (o["vtk"]) sc.output.vtk = r.boolean(o["vtk"], "output.vtk");
+  if (o["plots"]) sc.output.plots = r.boolean(o["plots"], "output.plots");
+}
+
+}  // namespace flexsens
