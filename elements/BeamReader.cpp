@@ -27,12 +27,50 @@ std::shared_ptr<BeamSection> readSection(const YamlReader& r, const YAML::Node& 
   return sec;
 }
 
+/// clamp: start | end | both. The end node is a ground node and the beam's tangent there is
+/// held by a bending hinge over a ghost ground node one segment length outside the beam on
+/// the end segment's line, with the Voronoi length of half a segment (the half cell the end
+/// node owns). Bending rest angle zero. The tip deflection of a linear cantilever then
+/// converges as O(1/N^2) (tests/test_static_scene.cpp), where the end segment's distance to a
+/// ground node one segment behind (no half cell) gives O(1/N).
+void readClamp(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
+               const std::vector<int>& ids, const std::shared_ptr<BeamSection>& sec) {
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  const YAML::Node cn = el["clamp"];
+  const std::string which = r.text(cn, path + ".clamp");
+  if (which != "start" && which != "end" && which != "both")
+    r.fail(cn, path + ".clamp", "expected start, end or both (the beam end held at its position and tangent); got '" + which + "'");
+  for (const bool atStart : {true, false}) {
+    if (which != "both" && (which == "start") != atStart) continue;
+    const int root = atStart ? ids.front() : ids.back();
+    const int next = atStart ? ids[1] : ids[ids.size() - 2];
+    if (!m.nodes[root].ground)
+      r.fail(cn, path + ".clamp", "a clamp holds the beam's end to the ground: node '" + m.nodes[root].name +
+                                      "' must be a ground node (ground: true)");
+    const VecX x0 = m.nodes[root].position, seg = x0 - m.nodes[next].position;
+    Node ghost;
+    ghost.name = name + (atStart ? ".clamp_start" : ".clamp_end");
+    ghost.position = x0 + seg;  // one segment outside, on the end segment's line
+    ghost.velocity = VecX::Zero(m.dim);
+    ghost.ground = true;
+    if (ctx.hasNode(ghost.name)) r.fail(cn, path + ".clamp", "a node named '" + ghost.name + "' exists already");
+    ctx.addNode(ghost);
+    const std::vector<int> nd{ctx.nodeIndex(ghost.name), root, next};
+    VecX rest(3 * m.dim);
+    rest << ghost.position, x0, m.nodes[next].position;
+    const double half = 0.5 * seg.norm();
+    if (m.dim == 2) m.elements.push_back(std::make_unique<BeamHinge>(ghost.name, nd, sec, rest, half));
+    else m.elements.push_back(std::make_unique<BeamHinge3D>(ghost.name, nd, sec, rest, half));
+  }
+}
+
 }  // namespace
 
 void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
-  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape"});
+  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape", "clamp"});
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
   // rest_shape: initial (default; rest = initial positions) or straight (rest segment lengths
   // = initial ones, zero rest curvature).
@@ -54,6 +92,7 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
     m.elements.push_back(std::make_unique<BeamSegment>(name + ".segment" + std::to_string(j),
                                                        std::vector<int>{ids[j], ids[j + 1]}, sec, L));
   }
+  if (el["clamp"]) readClamp(ctx, el, path, name, ids, sec);
   // Hinges: planar BeamHinge (dim 2) or spatial BeamHinge3D (dim 3). Rest positions of the
   // three nodes: initial, or (straight) along the first axis with the initial segment lengths.
   const int d = m.dim;

@@ -18,6 +18,7 @@ class PointForce : public KernelElement<PointForce> {
   /// components: dim entries [N] (2 planar, 3 spatial), in the order of the node's coordinates.
   PointForce(std::string name, int node, std::vector<Quantity> components);
   std::string kind() const override { return "point_force"; }
+  bool isLoad() const override { return true; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;

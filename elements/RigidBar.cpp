@@ -61,16 +61,26 @@ struct SpringDamper::Geometry {
   double l;     ///< current length [m]
   double ldot;  ///< elongation rate [m/s]
   VecX w;       ///< relative velocity v_b - v_a
+  /// Coincident nodes of a spring with zero natural length and no damping: the force k dx is
+  /// smooth there although its direction is not; u is then unused (zero).
+  bool zeroLength = false;
+  VecX dx;      ///< x_b - x_a [m]
 };
 
 SpringDamper::Geometry SpringDamper::geometry(const LocalState& s) const {
   const int d = s.dim;
   Geometry g;
-  const VecX dx = s.x.tail(d) - s.x.head(d);
-  g.l = dx.norm();
-  if (!(g.l > 1e-12)) coincidentNodes(g.l);
-  g.u = dx / g.l;
+  g.dx = s.x.tail(d) - s.x.head(d);
+  g.l = g.dx.norm();
   g.w = s.v.tail(d) - s.v.head(d);
+  if (!(g.l > 1e-12)) {
+    if (!(s.value(L0_) == 0.0 && s.value(c_) == 0.0)) coincidentNodes(g.l);
+    g.zeroLength = true;
+    g.u = VecX::Zero(d);
+    g.ldot = 0.0;
+    return g;
+  }
+  g.u = g.dx / g.l;
   g.ldot = g.u.dot(g.w);
   return g;
 }
@@ -89,8 +99,14 @@ VecT<T> SpringDamper::forceT(const LocalState& s, const VecT<T>& x, const VecT<T
   using std::sqrt;
   const int d = s.dim;
   const VecT<T> dx = x.tail(d) - x.head(d);
+  if (!(ad::valueOf(T(dx.norm())) > 1e-12)) {  // coincident nodes: only k dx is defined
+    if (!(ad::valueOf(props[2]) == 0.0 && ad::valueOf(props[1]) == 0.0)) coincidentNodes(ad::valueOf(T(dx.norm())));
+    VecT<T> Q(2 * d);
+    Q.head(d) = props[0] * dx;
+    Q.tail(d) = -props[0] * dx;
+    return Q;
+  }
   const T l = sqrt(dx.squaredNorm());  // current length [m]
-  if (!(ad::valueOf(l) > 1e-12)) coincidentNodes(ad::valueOf(l));
   const VecT<T> u = dx / l;
   const VecT<T> w = v.tail(d) - v.head(d);
   const T ldot = u.dot(w);                                       // elongation rate [m/s]
@@ -107,8 +123,9 @@ void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) co
   const double k = s.value(k_), c = s.value(c_);
   const double f = k * (g.l - s.value(L0_)) + c * g.ldot;
   const MatX P = MatX::Identity(d, d) - g.u * g.u.transpose();
-  // G = d(f u)/d(x_b - x_a), Cm = d(f u)/d(v_b - v_a)
-  const MatX G = g.u * (k * g.u + c * P * g.w / g.l).transpose() + f * P / g.l;
+  // G = d(f u)/d(x_b - x_a), Cm = d(f u)/d(v_b - v_a); at zero length f u = k dx.
+  const MatX G = g.zeroLength ? MatX(k * MatX::Identity(d, d))
+                              : MatX(g.u * (k * g.u + c * P * g.w / g.l).transpose() + f * P / g.l);
   const MatX Cm = c * g.u * g.u.transpose();
   dQdq.resize(2 * d, 2 * d);
   dQdq << -G, G, G, -G;
@@ -119,6 +136,15 @@ void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) co
 bool SpringDamper::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   const int d = s.dim;
   const Geometry g = geometry(s);
+  if (g.zeroLength) {  // Q = k dx: only the stiffness has a derivative there
+    if (c_.boundTo(k) || L0_.boundTo(k)) coincidentNodes(g.l);
+    if (!k_.boundTo(k)) return false;
+    dQ.resize(2 * d);
+    dQ.head(d) = g.dx;
+    dQ.tail(d) = -g.dx;
+    dM.resize(0, 0);
+    return true;
+  }
   double df = 0.0;  // partial of the tension
   bool any = false;
   if (k_.boundTo(k)) { df += g.l - s.value(L0_); any = true; }

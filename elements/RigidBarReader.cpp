@@ -27,8 +27,12 @@ void readSpringDamper(SceneContext& ctx, const YAML::Node& el, const std::string
   const auto ids = ctx.nodeList(el, path, 2, 2);
   const Quantity k{r.nonNegative(r.require(el, "stiffness", path), path + ".stiffness"), -1};
   const Quantity c{el["damping"] ? r.nonNegative(el["damping"], path + ".damping") : 0.0, -1};
-  auto sp = std::make_unique<SpringDamper>(name, ids[0], ids[1], k, c,
-                                           ctx.length(el, "natural_length", path + ".natural_length", ids[0], ids[1]));
+  // natural_length may be 0 (a zero-length spring, e.g. a bushing between coincident points).
+  const YAML::Node L0 = el["natural_length"];
+  const Quantity length = (L0 && !r.isAuto(L0) && r.number(L0, path + ".natural_length") == 0.0)
+                              ? Quantity{0.0, -1}
+                              : ctx.length(el, "natural_length", path + ".natural_length", ids[0], ids[1]);
+  auto sp = std::make_unique<SpringDamper>(name, ids[0], ids[1], k, c, length);
   ctx.bindAll(name, sp->properties());
   ctx.bodies[name] = {ids, sp->properties()[2].second};
   ctx.m.elements.push_back(std::move(sp));

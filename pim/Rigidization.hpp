@@ -20,6 +20,10 @@ namespace flexsens {
 class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint> {
  public:
   AttachedPointConstraint(std::string name, std::vector<int> nodes, VecX coefficients, int dim);
+  /// Any linear point relation J x = 0 over the nodes' coordinates (dim rows); e.g. a planar
+  /// body's point r_P = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A).
+  AttachedPointConstraint(std::string name, std::vector<int> nodes, MatX J)
+      : KernelConstraint(std::move(name), std::move(nodes)), dim_(static_cast<int>(J.rows())), J_(std::move(J)) {}
   std::string kind() const override { return "attached_point"; }
   int rows() const override { return dim_; }
   void jacobian(const LocalState& s, MatX& J) const override;

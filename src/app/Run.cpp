@@ -3,7 +3,9 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
+#include "app/EnergyAudit.hpp"
 #include "app/FiniteDifferences.hpp"
 #include "integrators/FixedStep.hpp"
 #include "integrators/Idas.hpp"
@@ -104,7 +106,8 @@ namespace {
 
 void writeSummary(const std::string& path, const Scene& sc, const IntegratorStats& st, double wall,
                   const std::string& status, const std::string& error,
-                  const std::vector<std::string>& files, const PimReport* pim) {
+                  const std::vector<std::string>& files, const PimReport* pim, const std::string& energy,
+                  double velocityChange) {
   const Model& m = *sc.model;
   std::ofstream js(path);
   js << "{\n";
@@ -159,6 +162,8 @@ void writeSummary(const std::string& path, const Scene& sc, const IntegratorStat
      << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
      << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
+  js << "  \"energy\": " << energy << ",\n";
+  js << "  \"initial_velocity_change\": " << jsonNumber(velocityChange) << ",\n";
   js << "  \"wall_time_s\": " << jsonNumber(wall) << ",\n";
   js << "  \"files\": [";
   for (size_t i = 0; i < files.size(); ++i)
@@ -176,11 +181,20 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   const VecX p = m.nominalParameters();
   PimReport pim;
   const StateWithSens start = initialState(as, p, sc.pimCase.get(), &pim);  // before any file is written
+  // Given velocities that violate the velocity constraints are projected (least change in the
+  // mass-free Euclidean norm); say by how much, never silently.
+  const VecX v0 = m.initialVelocities();
+  const double dv = m.n ? (start.x.v - v0).lpNorm<Eigen::Infinity>() : 0.0;
+  if (dv > 1e-9 * std::max(1.0, v0.lpNorm<Eigen::Infinity>()))
+    std::cerr << "flexsens: note: the given initial velocities violate the constraints; projected onto them, "
+                 "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
 
   std::filesystem::create_directories(outDir);
   const std::string summary = outDir + "/summary.json";
   std::filesystem::remove(summary);  // a stale summary must not describe this run
-  ResultWriter writer(sc, outDir, "");
+  const EnergyMeter meter(as, p);
+  ResultWriter writer(sc, outDir, "", "t", &meter);
+  EnergyAudit audit(as, p, writer, sc.integrator.energyTolerance);
   RunResult res;
   res.directory = outDir;
   auto elapsed = [&] {
@@ -189,18 +203,20 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   try {
     if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
       NdSettings nd{sc.sensitivity.ndScheme, sc.sensitivity.ndStep};
-      res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, writer);
+      res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, audit);
     } else {
-      res.stats = integrate(as, p, start, sc.integrator, writer);
+      res.stats = integrate(as, p, start, sc.integrator, audit);
     }
   } catch (const std::exception& e) {
     writer.close();
-    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files(), &pim);
+    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files(), &pim, audit.json(), dv);
     throw;
   }
   writer.close();
   res.wallSeconds = elapsed();
-  writeSummary(summary, sc, res.stats, res.wallSeconds, "complete", "", writer.files(), &pim);
+  res.suspect = audit.reason();
+  writeSummary(summary, sc, res.stats, res.wallSeconds, res.suspect.empty() ? "complete" : "suspect", res.suspect,
+               writer.files(), &pim, audit.json(), dv);
   return res;
 }
 

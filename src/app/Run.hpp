@@ -25,6 +25,7 @@ struct RunResult {
   std::string directory;
   IntegratorStats stats;
   double wallSeconds = 0.0;
+  std::string suspect;  ///< the energy audit's reason when the run is suspect, else empty
 };
 
 /// Applies the overrides to the scene settings; throws InputError naming the option.

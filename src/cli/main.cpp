@@ -1,11 +1,14 @@
-// flexsens command line: `flexsens run SCENE [...]` and `flexsens check SCENE`.
-// Exit codes: 0 success, 1 bad input (scene or options), 2 numerical failure, 3 other error.
+// flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`.
+// Exit codes: 0 success, 1 bad input (scene or options), 2 numerical failure, 3 other error,
+// 5 run completed but suspect (energy audit).
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
 #include <iostream>
 
+#include "app/Redundancy.hpp"
 #include "app/Run.hpp"
+#include "app/StaticRun.hpp"
 #include "app/Study.hpp"
 #include "core/Types.hpp"
 
@@ -41,6 +44,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> cases;
   run->add_option("--case", cases, "PIM case to run (repeatable; default: every case of the scene)");
 
+  std::string staticPath, staticOut, staticMethod;
+  int loadSteps = 0;
+  auto* statik = app.add_subcommand("static", "load-stepped static equilibrium with exact static sensitivities (series.csv per load step, VTK, summary.json)");
+  statik->add_option("scene", staticPath, "scene file (YAML)")->required();
+  statik->add_option("--out", staticOut, "output directory (default: <output.directory>/static)");
+  statik->add_option("--load-steps", loadSteps, "equal load increments (default: the scene's static.load_steps, else 10)");
+  statik->add_option("--method", staticMethod, "sensitivities: dd (analytic, default) | ad");
+
   std::string checkPath;
   auto* check = app.add_subcommand("check", "validate a scene and print its sizes");
   check->add_option("scene", checkPath, "scene file (YAML)")->required();
@@ -61,6 +72,25 @@ int main(int argc, char** argv) {
       std::cout << "study report written to " << runStudy(study) << "\n";
       return 0;
     }
+    if (*statik) {
+      Scene sc = readScene(staticPath);
+      if (statik->count("--load-steps")) {
+        if (loadSteps < 1 || loadSteps > 100000) throw InputError("option --load-steps: expected 1 to 100000");
+        sc.statics.loadSteps = loadSteps;
+      }
+      if (!staticMethod.empty()) {
+        if (staticMethod != "dd" && staticMethod != "ad")
+          throw InputError("option --method: static sensitivities are dd or ad, got '" + staticMethod + "'");
+        sc.sensitivity.method = staticMethod;
+      }
+      const std::string dir = staticOut.empty() ? sc.output.directory + "/static" : staticOut;
+      const StaticResult r = runStaticScene(sc, dir, sc.statics.loadSteps);
+      std::cout << "static equilibrium written to " << r.directory << "/ (series.csv, "
+                << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
+                << "  " << r.loadSteps << " load steps, " << r.newtonIterations << " Newton iterations, |R|_inf = "
+                << r.residualNorm << " N, |Phi|_inf = " << r.constraintNorm << "\n";
+      return 0;
+    }
     if (*check) {
       Scene sc = readScene(checkPath);
       const Model& m = *sc.model;
@@ -70,6 +100,22 @@ int main(int argc, char** argv) {
                 << "  " << m.elements.size() << " elements, " << m.constraints.size()
                 << " constraints, " << m.parameters.size() << " parameters, "
                 << sc.outputs.size() << " outputs\n";
+      {
+        const Assembler as(m);
+        const RedundancyReport red = constraintRedundancy(as, m.initialPositions(), m.nominalParameters());
+        if (!red.checked)
+          std::cout << "  redundancy of the constraints not checked (n * m above " << kMaxRedundancyEntries << ")\n";
+        else if (red.dependent.empty())
+          std::cout << "  constraints independent at the initial positions (rank Phi_q = " << red.rank << ")\n";
+        else {
+          std::cout << "  REDUNDANT constraints: rank Phi_q = " << red.rank << " of " << red.rows
+                    << " rows, so the mechanism has " << m.n - red.rank << " degrees of freedom, not "
+                    << m.n - m.m << ". Dependent rows (remove them, or replace joints by ones that "
+                       "constrain less, e.g. a spherical for a revolute in a planar loop):";
+          for (const auto& l : red.dependent) std::cout << " " << l;
+          std::cout << "\n  `run` stops at t = 0 on such a model: its Newton matrix is singular.\n";
+        }
+      }
       for (const auto& name : sc.caseNames) {
         // The PIM's own count: m_r = independent rigidization equations (rank-revealing).
         Scene cs = readScene(checkPath, name);
@@ -98,10 +144,14 @@ int main(int argc, char** argv) {
     if (cases.empty()) cases.push_back("");
     // Validate every requested case (and the options) before anything is written.
     std::vector<Scene> scenes;
+    if (!base.hasIntegrator)
+      throw InputError(scenePath + ":1:1: key 'integrator': the scene has no integrator (a static scene: "
+                       "use `flexsens static`, or add an integrator to run it)");
     for (const auto& c : cases) {
       scenes.push_back(c.empty() ? std::move(base) : readScene(scenePath, c));
       applyOptions(scenes.back(), opt);
     }
+    int status = 0;
     for (size_t i = 0; i < scenes.size(); ++i) {
       const Scene& sc = scenes[i];
       const std::string dir = sc.output.directory + (cases[i].empty() ? "" : "/" + cases[i]);
@@ -113,8 +163,12 @@ int main(int argc, char** argv) {
                 << "  " << r.stats.steps << " steps, " << r.stats.newtonIterations << " Newton iterations, "
                 << r.stats.factorizations << " factorizations, " << r.wallSeconds << " s wall, max |Phi| = "
                 << r.stats.maxConstraintViolation << "\n";
+      if (!r.suspect.empty()) {
+        std::cerr << "flexsens: SUSPECT result (summary.json status 'suspect'): " << r.suspect << "\n";
+        status = 5;
+      }
     }
-    return 0;
+    return status;
   } catch (const InputError& e) {
     std::cerr << "flexsens: error: " << e.what() << "\n";
     return 1;

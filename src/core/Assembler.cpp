@@ -21,6 +21,8 @@ Assembler::Assembler(const Model& model, const ConstraintList* constraints, Deri
   }
 }
 
+void Assembler::setLoadFactor(double s) const { loadFactor_ = s; }
+
 std::string Assembler::rowLabel(int r) const {
   for (size_t c = 0; c < cons_.size(); ++c)
     if (r >= consRow_[c] && r < consRow_[c] + cons_[c]->rows())
@@ -53,8 +55,8 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
     }
   }
   s.p = &p;
-  if (gravityBound_) {
-    gravityAtP_ = model_.gravityAt(p);
+  if (gravityBound_ || loadFactor_ != 1.0) {
+    gravityAtP_ = loadFactor_ * model_.gravityAt(p);
     s.gravity = &gravityAtP_;
   } else {
     s.gravity = &model_.gravity;
@@ -105,6 +107,7 @@ VecX Assembler::force(const VecX& q, const VecX& v, const VecX& p) const {
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     el.force(localState(el.nodes(), q, v, p), Ql);
+    if (el.isLoad()) Ql *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) Q[map[i]] += Ql[i];
@@ -236,8 +239,9 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     elementForceJacobian(el, localState(el.nodes(), q, v, p), Kq, Kv);
-    if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq, r0, cq);
-    if (sv != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kv, -sv, r0, cv);
+    const double lf = el.isLoad() ? loadFactor_ : 1.0;
+    if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq * lf, r0, cq);
+    if (sv != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kv, -sv * lf, r0, cv);
   }
 }
 
@@ -301,7 +305,7 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
       if (!el.mass(localState(el.nodes(), q, v, p), dM)) continue;
       VecX unit = VecX::Zero(dM.cols());
       for (int a = 0; a < unit.size() / model_.dim; ++a) unit[a * model_.dim + c] = 1.0;
-      const VecX g = dM * unit;
+      const VecX g = loadFactor_ * (dM * unit);
       const auto& map = elemDofs_[e];
       for (size_t i = 0; i < map.size(); ++i)
         if (map[i] >= 0) r[map[i]] += g[i];
@@ -310,6 +314,7 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     if (!elementParameterDerivative(el, localState(el.nodes(), q, v, p), k, dQ, dM)) continue;
+    if (el.isLoad()) dQ *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) r[map[i]] += dQ[i];

@@ -32,6 +32,10 @@ class Assembler {
   /// derivatives); may be changed between evaluations.
   void setDerivatives(Derivatives d) { derivatives_ = d; }
   Derivatives derivatives() const { return derivatives_; }
+  /// Scales the applied loads (gravity and elements with isLoad()) in every force entry point
+  /// below: the static solver's load factor in (0, 1]; 1 for dynamics.
+  void setLoadFactor(double s) const;
+  double loadFactor() const { return loadFactor_; }
   const Model& model() const { return model_; }
   int n() const { return model_.n; }
   int m() const { return m_; }
@@ -104,6 +108,7 @@ class Assembler {
   /// (elements read gravity through a pointer). Makes an Assembler single-threaded.
   mutable VecX gravityAtP_;
   bool gravityBound_ = false;
+  mutable double loadFactor_ = 1.0;
   Derivatives derivatives_ = Derivatives::Analytic;
 };
 

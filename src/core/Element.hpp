@@ -63,6 +63,9 @@ class Element {
     throw std::logic_error("no AD kernel");
   }
 
+  /// An applied load (point force, torque): the static solver scales its force by the load
+  /// factor, like gravity. Internal forces (elastic, damping) are not loads.
+  virtual bool isLoad() const { return false; }
   /// Potential energy (gravity, elastic) [J]; its negative gradient is the conservative part of Q.
   virtual double potential(const LocalState& s) const = 0;
   /// The scalar quantities this element reads, by property name (for parameter binding).

@@ -10,6 +10,19 @@ namespace flexsens {
 
 namespace {
 double infNorm(const VecX& x) { return x.size() ? x.lpNorm<Eigen::Infinity>() : 0.0; }
+
+/// The static Newton matrix R_x = [-dQ/dq + sum lambda_i Hess(Phi_i), Phi_q^T; Phi_q, 0].
+SpMat staticMatrix(SparseAccumulator& acc, const Assembler& as, const VecX& q, const VecX& lambda, const VecX& p) {
+  const int n = as.n(), m = as.m();
+  acc.begin(n + m, n + m);
+  as.addForceJacobian(acc, q, VecX::Zero(n), p, 1.0, 0.0, 0, 0, 0);
+  if (m) {
+    as.addHessian(acc, q, p, lambda, 1.0, 0, 0);
+    as.addPhiQ(acc, q, p, 1.0, 0, n, true);
+    as.addPhiQ(acc, q, p, 1.0, n, 0, false);
+  }
+  return acc.finish();
+}
 }  // namespace
 
 std::function<VecX(double)> linearLoadPath(const VecX& pUnloaded, const VecX& pLoaded) {
@@ -29,7 +42,12 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
   }
   if (s.steps < 1 || s.maxIterations < 1 || !(s.tol > 0.0))
     throw std::invalid_argument("solveStatic: need steps >= 1, maxIterations >= 1 and tol > 0");
-  const int steps = s.paramsAt ? s.steps : 1;
+  const int steps = (s.paramsAt || s.stepLoadFactor) ? s.steps : 1;
+  // The load factor goes back to 1 however this call ends.
+  struct LoadFactorReset {
+    const Assembler& as;
+    ~LoadFactorReset() { as.setLoadFactor(1.0); }
+  } reset{as};
   if (s.paramsAt) {
     const VecX p1 = s.paramsAt(1.0);
     if (p1.size() != p.size() || (p1 - p).lpNorm<Eigen::Infinity>() >
@@ -56,24 +74,19 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
   for (int k = 1; k <= steps; ++k) {
     const double lf = static_cast<double>(k) / steps;
     const VecX pk = (k == steps || !s.paramsAt) ? p : s.paramsAt(lf);
+    if (s.stepLoadFactor) as.setLoadFactor(lf);
     bool converged = false;
     int it = 0;
     double dqNorm = 0.0;
     for (it = 1; it <= s.maxIterations; ++it) {
       residual(pk);
-      acc.begin(n + m, n + m);
-      as.addForceJacobian(acc, q, v, pk, 1.0, 0.0, 0, 0, 0);
-      if (m) {
-        as.addHessian(acc, q, pk, lambda, 1.0, 0, 0);
-        as.addPhiQ(acc, q, pk, 1.0, 0, n, true);
-        as.addPhiQ(acc, q, pk, 1.0, n, 0, false);
-      }
+      const SpMat J = staticMatrix(acc, as, q, lambda, pk);
       std::ostringstream what;
       what << "static Newton matrix [-dQ/dq + H(lambda), Phi_q^T; Phi_q, 0] at load step " << k
            << "/" << steps << " (load factor " << lf << "), iteration " << it
            << " (an unrestrained rigid motion, a buckling point, or redundant constraints)";
       try {
-        lu.factor(acc.finish(), what.str());
+        lu.factor(J, what.str());
       } catch (const NumericalError& e) {
         std::ostringstream os;
         os << "static equilibrium: " << e.what() << "; residual |Q - Phi_q^T lambda|_inf = "
@@ -104,6 +117,7 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
          << " m; try more load steps (e.g. " << 2 * steps << ") or more iterations";
       throw NumericalError(os.str());
     }
+    if (s.onStep) s.onStep(k, lf, q, lambda);
     rep.iterationsPerStep.push_back(it);
     rep.iterations += it;
     ++rep.steps;
@@ -114,6 +128,29 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
   rep.lambda = lambda;
   if (report) *report = std::move(rep);
   return q;
+}
+
+StaticSensitivity staticSensitivities(const Assembler& as, const VecX& q, const VecX& lambda, const VecX& p) {
+  const int n = as.n(), m = as.m(), np = static_cast<int>(p.size());
+  const VecX v = VecX::Zero(n);
+  SparseAccumulator acc;
+  const SpMat J = staticMatrix(acc, as, q, lambda, p);
+  SparseLU lu;
+  lu.factor(J, "static sensitivity matrix [-dQ/dq + H(lambda), Phi_q^T; Phi_q, 0] at the equilibrium");
+  StaticSensitivity out{MatX(n, np), MatX(m, np)};
+  for (int k = 0; k < np; ++k) {
+    VecX rp(n + m);
+    rp.head(n) = -as.forceParamDerivative(q, v, p, k);
+    if (m) {
+      rp.head(n) += as.phiQParamDerivativeTransposeTimes(q, p, k, lambda);
+      rp.tail(m) = as.phiParamDerivative(q, p, k);
+    }
+    VecX x = lu.solve(VecX(-rp));
+    x += lu.solve(VecX(-rp - J * x));  // one step of iterative refinement
+    out.qp.col(k) = x.head(n);
+    if (m) out.lambdap.col(k) = x.tail(m);
+  }
+  return out;
 }
 
 }  // namespace flexsens

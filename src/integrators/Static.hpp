@@ -26,6 +26,12 @@ struct StaticSettings {
   /// Parameters at load factor s in (0, 1]; must give the solver's p at s = 1. Empty: p at every
   /// step (no stepping, a single Newton solve).
   std::function<VecX(double)> paramsAt;
+  /// Step the applied loads instead: Assembler::setLoadFactor(s) at each step (gravity and
+  /// load elements scaled by s), back to 1 on return. Used by `flexsens static`.
+  bool stepLoadFactor = false;
+  /// Called after each converged load step with the load factor, q and lambda (the
+  /// assembler's load factor is still s then, so derivatives taken there belong to step s).
+  std::function<void(int step, double loadFactor, const VecX& q, const VecX& lambda)> onStep;
 };
 
 struct StaticReport {
@@ -41,6 +47,15 @@ struct StaticReport {
 /// Throws NumericalError naming the load step, iteration and residual on failure.
 VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettings& s,
                  StaticReport* report = nullptr);
+
+/// Exact static sensitivities at an equilibrium (q, lambda) of R = [Phi_q^T lambda - Q; Phi]:
+/// R_x [q_p; lambda_p] = -R_p with R_p = [Phi_qp^T lambda - Q_p; Phi_p], one column per
+/// parameter, with the Newton matrix R_x factorized once (plus one refinement step).
+struct StaticSensitivity {
+  MatX qp;       ///< n x np [m per parameter unit]
+  MatX lambdap;  ///< m x np
+};
+StaticSensitivity staticSensitivities(const Assembler& as, const VecX& q, const VecX& lambda, const VecX& p);
 
 /// Linear load path p(s) = pUnloaded + s (pLoaded - pUnloaded), for StaticSettings::paramsAt
 /// (only sensible when the loaded parameters enter the forces linearly, e.g. point forces).

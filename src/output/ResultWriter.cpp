@@ -49,17 +49,20 @@ std::string jsonNumber(double v) {
   return os.str();
 }
 
-ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem)
-    : scene_(scene), dir_(std::move(dir)), stem_(std::move(stem)),
+ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem, const std::string& timeColumn,
+                           const EnergyMeter* energy)
+    : scene_(scene), energy_(energy), dir_(std::move(dir)), stem_(std::move(stem)),
       tEnd_(scene.integrator.tEnd), startWall_(wallSeconds()) {
   const std::string csvPath = dir_ + "/" + stem_ + "series.csv";
   csv_.open(csvPath);
   if (!csv_) throw std::runtime_error("cannot write " + csvPath);
   files_.push_back(csvPath);
-  columns_.push_back("t");
+  columns_.push_back(timeColumn);
   for (const auto& o : scene_.outputs) columns_.push_back(o.name);
   for (const auto& o : scene_.outputs)
     for (const auto& p : scene_.model->parameters) columns_.push_back("d" + o.name + "/d" + p.name);
+  if (energy_)
+    for (const char* c : {"kinetic_J", "potential_J", "energy_J"}) columns_.push_back(c);
   for (size_t i = 0; i < columns_.size(); ++i) csv_ << (i ? "," : "") << columns_[i];
   csv_ << "\n";
   csv_ << std::setprecision(15);
@@ -74,6 +77,10 @@ void ResultWriter::frame(const StateWithSens& s) {
   for (const auto& o : scene_.outputs) lastRow_.push_back(o.value(m, s.x.q));
   for (const auto& o : scene_.outputs)
     for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(o.derivative(m, s.x.q, s.dp[k].q));
+  if (energy_) {
+    const Energy e = energy_->at(s.x.q, s.x.v);
+    lastRow_.insert(lastRow_.end(), {e.kinetic, e.potential, e.total()});
+  }
   for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
   csv_ << "\n";
   times_.push_back(s.x.t);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "integrators/State.hpp"
+#include "output/Energy.hpp"
 #include "scene/Scene.hpp"
 
 namespace flexsens {
@@ -15,7 +16,10 @@ namespace flexsens {
 class ResultWriter : public Observer {
  public:
   /// dir must exist. stem prefixes the file names (e.g. "" or "R1_").
-  ResultWriter(const Scene& scene, std::string dir, std::string stem);
+  /// timeColumn names series.csv's first column ("load_factor" for static runs).
+  /// With `energy`, series.csv ends with the columns kinetic_J, potential_J, energy_J.
+  ResultWriter(const Scene& scene, std::string dir, std::string stem, const std::string& timeColumn = "t",
+               const EnergyMeter* energy = nullptr);
   void frame(const StateWithSens& s) override;
   void progress(double t) override;
   /// Writes the .pvd index; call when the run ended (complete or not).
@@ -29,6 +33,7 @@ class ResultWriter : public Observer {
  private:
   void writeVtu(const StateWithSens& s, const std::string& path) const;
   const Scene& scene_;
+  const EnergyMeter* energy_;
   std::string dir_, stem_;
   std::ofstream csv_;
   std::vector<std::string> columns_;

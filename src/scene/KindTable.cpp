@@ -17,6 +17,8 @@ std::string KindTable::names() const {
 const KindTable& elementKinds() {
   static const KindTable t{{
       {"beam", readBeam},
+      {"planar_rigid_body", readPlanarRigidBody},
+      {"point_force", readPointForce},
       {"rigid_bar", readRigidBar},
       {"rigid_body", readRigidBody},
       {"rotational_spring_damper", readRotationalSpring},

@@ -36,10 +36,18 @@ struct OutputSettings {
   bool plots = true;
 };
 
+/// `static:` settings of `flexsens static` (load-stepped equilibrium).
+struct StaticSceneSettings {
+  bool given = false;  ///< the scene has a `static` key (then `integrator` may be left out)
+  int loadSteps = 10;  ///< equal increments of the load factor
+};
+
 struct Scene {
   std::string file;  ///< path as given
   std::unique_ptr<Model> model;
   IntegratorSettings integrator;
+  bool hasIntegrator = true;  ///< false: a static-only scene (`run` refuses it)
+  StaticSceneSettings statics;
   SensitivitySettings sensitivity;
   std::vector<OutputSpec> outputs;
   OutputSettings output;

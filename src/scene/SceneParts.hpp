@@ -32,6 +32,7 @@ int axisIndex(const Model& m, const std::string& a);
 /// A component name read at `n`; fails listing the scene's axes.
 int component(const SceneContext& ctx, const YAML::Node& n, const std::string& path);
 
+void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSettings& s);
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s);
 void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc);
 void readOutputSettings(const YamlReader& r, const YAML::Node& o, Scene& sc);

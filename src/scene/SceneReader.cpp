@@ -131,7 +131,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   SceneContext ctx(file, m);
   const YamlReader& r = ctx.r;
   r.allowKeys(root, "", {"dimension", "plane", "gravity", "geometry", "nodes", "elements", "constraints",
-                         "parameters", "integrator", "outputs", "output", "description", "cases"});
+                         "parameters", "integrator", "static", "outputs", "output", "description", "cases"});
   const YAML::Node dimNode = r.require(root, "dimension", "");
   m.dim = r.integer(dimNode, "dimension");
   if (m.dim != 2 && m.dim != 3) r.fail(dimNode, "dimension", "expected 2 or 3");
@@ -147,6 +147,8 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (root["constraints"]) readItems(ctx, root["constraints"], "constraints", "constraint", constraintKinds());
   CaseSelection sel;
   sel.name = caseName;
+  if (!caseName.empty() && !root["cases"])
+    r.fail(root, "cases", "no case named '" + caseName + "': the scene defines no PIM cases");
   // yaml-cpp: a default Node is "defined" (null) and '=' assigns content, hence optional.
   const std::optional<YAML::Node> caseNode =
       root["cases"] ? selectCase(ctx, root["cases"], sc, sel) : std::optional<YAML::Node>();
@@ -156,7 +158,9 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   else if (!sel.paramNodes.empty())
     r.fail(sel.paramNodes.front().second, sel.paramsPath, "the scene defines no parameters (add a 'parameters' list)");
   if (caseNode) sc.pimCase = readPimCase(ctx, *caseNode, sel);
-  readIntegrator(r, r.require(root, "integrator", ""), sc.integrator);
+  if (root["static"]) readStaticSettings(r, root["static"], sc.statics);
+  sc.hasIntegrator = root["integrator"] || !root["static"];
+  if (sc.hasIntegrator) readIntegrator(r, r.require(root, "integrator", ""), sc.integrator);
   if (root["outputs"]) readOutputs(ctx, root["outputs"], sc);
   readOutputSettings(r, root["output"], sc);
   if (m.n == 0) r.fail(root["nodes"], "nodes", "the scene has no free node: nothing can move");

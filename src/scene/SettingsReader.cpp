@@ -5,10 +5,21 @@
 
 namespace flexsens {
 
+void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSettings& s) {
+  s.given = true;
+  if (in.IsNull()) return;
+  r.allowKeys(in, "static", {"load_steps"});
+  if (in["load_steps"]) {
+    s.loadSteps = r.integer(in["load_steps"], "static.load_steps");
+    if (s.loadSteps < 1 || s.loadSteps > 100000)
+      r.fail(in["load_steps"], "static.load_steps", "expected a number of load steps from 1 to 100000");
+  }
+}
+
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
                                  "max_newton_iterations", "frame_interval", "sensitivity_error_control",
-                                 "rho_inf"});
+                                 "rho_inf", "energy_tolerance"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
     r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
@@ -29,6 +40,7 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
     s.rhoInf = r.number(in["rho_inf"], "integrator.rho_inf");
     if (!(s.rhoInf >= 0.0 && s.rhoInf <= 1.0)) r.fail(in["rho_inf"], "integrator.rho_inf", "expected a number in [0, 1]");
   }
+  if (in["energy_tolerance"]) s.energyTolerance = r.nonNegative(in["energy_tolerance"], "integrator.energy_tolerance");
   if (in["sensitivity_error_control"])
     s.sensitivityErrorControl = r.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
 }

@@ -1,0 +1,40 @@
+// The energy audit of a run: passes every frame on to the next observer and follows the total
+// mechanical energy E = T + V. The models flexsens integrates are passive (dampers only take
+// energy out; constraints are scleronomic and do no work; loads are dead, with a potential), so
+// E may fall (damping, or an integrator's numerical dissipation) but not rise. A rise above
+// `tolerance` times the energy scale (the largest kinetic energy or potential swing of the run)
+// marks the run `suspect`: the N-four-bar that flips its crank every frame past a singular
+// configuration gains energy by orders of magnitude while |Phi| stays at round-off.
+#pragma once
+
+#include <string>
+
+#include "integrators/State.hpp"
+#include "output/Energy.hpp"
+
+namespace flexsens {
+
+class EnergyAudit : public Observer {
+ public:
+  EnergyAudit(const Assembler& as, const VecX& p, Observer& next, double tolerance)
+      : meter_(as, p), next_(next), tolerance_(tolerance) {}
+  void frame(const StateWithSens& s) override;
+  void progress(double t) override { next_.progress(t); }
+
+  bool suspect() const;
+  /// Plain words: the largest rise, when and against which scale; empty when not suspect.
+  std::string reason() const;
+  /// summary.json's "energy" object.
+  std::string json() const;
+
+ private:
+  double scale() const;
+  EnergyMeter meter_;
+  Observer& next_;
+  double tolerance_;
+  bool started_ = false;
+  double e0_ = 0, eLast_ = 0, maxRise_ = 0, tRise_ = 0, tLast_ = 0;
+  double tMax_ = 0, vMin_ = 0, vMax_ = 0;  ///< largest kinetic energy, potential range [J]
+};
+
+}  // namespace flexsens
