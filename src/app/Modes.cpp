@@ -280,7 +280,9 @@ std::string modesReport(const ModalAnalysis& a, int count) {
   table("highest modes:", high);
   if (wMax > 0) {
     os << "time steps:\n"
-       << "  maggi_rk4 (explicit RK4) is stable for dt < 2.785 / omega_max = " << fmt("%.3e", kRk4StabilityLimit / wMax) << " s\n"
+       << (a.massless ? "  maggi_rk4 (explicit RK4) does not run massless parts; with mass it would be stable for dt < 2.785 / omega_max = "
+                      : "  maggi_rk4 (explicit RK4) is stable for dt < 2.785 / omega_max = ")
+       << fmt("%.3e", kRk4StabilityLimit / wMax) << " s\n"
        << "  implicit schemes (bdf1, trapezoidal, generalized_alpha; IDAS when a mode is excited) resolve a mode when\n"
        << "  omega dt <= 0.1 (column above); a mode with omega dt >> 1 is not resolved: bdf1 and generalized_alpha\n"
        << "  (rho_inf < 1) damp it, trapezoidal keeps it undamped, IDAS cuts its step to follow it\n";
