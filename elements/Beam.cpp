@@ -28,7 +28,8 @@ double BeamSection::drhoA(const VecX& p, int k) const {
   return (density.boundTo(k) ? A(p) : 0.0) + density.value(p) * dA(p, k);
 }
 std::vector<std::pair<std::string, Quantity*>> BeamSection::properties() {
-  std::vector<std::pair<std::string, Quantity*>> r{{"E", &E}, {"density", &density}};
+  std::vector<std::pair<std::string, Quantity*>> r{{"E", &E}};
+  if (!massless) r.push_back({"density", &density});
   if (square) {
     r.push_back({"side", &side});
   } else {

@@ -28,6 +28,7 @@ struct BeamSection {
   Quantity inertia;  ///< I [m^4] (explicit form)
   Quantity side;     ///< square side a [m]: A = a^2, I = a^4/12 (square form)
   bool square = false;  ///< true: section from side; false: from area and inertia
+  bool massless = false;  ///< scene `inertia: none`: density 0 and not a property (no mass, no weight)
 
   double A(const VecX& p) const;
   double I(const VecX& p) const;
@@ -57,7 +58,7 @@ struct BeamSection {
   bool inertiaDependsOn(int k) const { return square ? side.boundTo(k) : inertia.boundTo(k); }
   bool axialDependsOn(int k) const { return E.boundTo(k) || density.boundTo(k) || areaDependsOn(k); }
   bool bendingDependsOn(int k) const { return E.boundTo(k) || inertiaDependsOn(k); }
-  /// Named quantities ("E", "density", then "side" or "area", "inertia").
+  /// Named quantities ("E", "density" unless massless, then "side" or "area", "inertia").
   std::vector<std::pair<std::string, Quantity*>> properties();
 };
 

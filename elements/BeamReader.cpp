@@ -9,10 +9,26 @@ namespace flexsens {
 namespace {
 
 /// section: {side} (square) or {area, inertia}; every entry bindable as a parameter.
+/// inertia: consistent (default: consistent segment masses from density) or none (massless:
+/// no density, no mass, no gravity load; the free nodes' equations become equilibrium ones).
 std::shared_ptr<BeamSection> readSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
   auto sec = std::make_shared<BeamSection>();
   sec->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
-  sec->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
+  if (el["inertia"]) {
+    const std::string in = r.text(el["inertia"], path + ".inertia");
+    if (in == "none") sec->massless = true;
+    else if (in != "consistent")
+      r.fail(el["inertia"], path + ".inertia",
+             "expected consistent (segment masses from density, the default) or none (a massless beam: "
+             "its free nodes carry no mass from it); got '" + in + "'");
+  }
+  if (sec->massless) {
+    if (el["density"])
+      r.fail(el["density"], path + ".density", "a beam with inertia: none has no mass: remove density");
+    sec->density = {0.0, -1};
+  } else {
+    sec->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
+  }
   const YAML::Node s = r.require(el, "section", path);
   const std::string sp = path + ".section";
   r.allowKeys(s, sp, {"side", "area", "inertia"});
@@ -70,7 +86,7 @@ void readClamp(SceneContext& ctx, const YAML::Node& el, const std::string& path,
 void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
-  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape", "clamp"});
+  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "inertia", "section", "rest_shape", "clamp"});
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
   // rest_shape: initial (default; rest = initial positions) or straight (rest segment lengths
   // = initial ones, zero rest curvature).

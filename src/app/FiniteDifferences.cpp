@@ -56,6 +56,7 @@ IntegratorStats integrateFiniteDifferences(const Assembler& as, const VecX& p0,
       s.x.t = start.x.t;
       s.x.q = pim ? perturbedConfiguration(as, *pim, start.x.q, p0, p, k) : projectPositions(as, start.x.q, p);
       s.x.v = projectVelocities(as, s.x.q, start.x.v + sgn * h * start.dp[k].v, p);
+      equilibrateMassless(as, s.x, p);
       solveAccelerations(as, s.x, p);
       runs.emplace_back();
       add(total, integrate(as, p, s, set, runs.back()));

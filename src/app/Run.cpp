@@ -65,6 +65,7 @@ State consistentState(const Assembler& as, const VecX& p) {
   s.t = 0.0;
   s.q = projectPositions(as, m.initialPositions(), p);
   s.v = projectVelocities(as, s.q, m.initialVelocities(), p);
+  equilibrateMassless(as, s, p);  // parts with inertia: none (no-op otherwise)
   solveAccelerations(as, s, p);
   return s;
 }
@@ -73,7 +74,13 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
   const Model& m = as.model();
   if (pim) {
     PimReport local;
-    return pimInitialState(as, *pim, consistentState(as, p), p, rep ? *rep : local);
+    StateWithSens s = pimInitialState(as, *pim, consistentState(as, p), p, rep ? *rep : local);
+    if (!masslessCoordinates(as, p).empty())  // massless coordinates follow equilibrium, not the case
+      for (size_t k = 0; k < s.dp.size(); ++k) {
+        masslessSensitivity(as, s.x, p, static_cast<int>(k), s.dp[k]);
+        solveAccelerationSensitivity(as, s.x, p, static_cast<int>(k), s.dp[k]);
+      }
+    return s;
   }
   StateWithSens s;
   s.x = consistentState(as, p);
@@ -89,6 +96,7 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
       d.q = VecX::Zero(as.n());
       d.v = VecX::Zero(as.n());
     }
+    masslessSensitivity(as, s.x, p, kk, d);  // no-op without massless coordinates
     solveAccelerationSensitivity(as, s.x, p, kk, d);
     s.dp.push_back(d);
   }

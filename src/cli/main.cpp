@@ -1,16 +1,18 @@
-// flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`.
-// Exit codes: 0 success, 1 bad input (scene or options), 2 numerical failure, 3 other error,
-// 5 run completed but suspect (energy audit).
+// flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`,
+// `flexsens modes SCENE`. Exit codes: 0 success, 1 bad input (scene or options), 2 numerical
+// failure, 3 other error, 5 run completed but suspect (energy audit).
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
 #include <iostream>
 
+#include "app/Modes.hpp"
 #include "app/Redundancy.hpp"
 #include "app/Run.hpp"
 #include "app/StaticRun.hpp"
 #include "app/Study.hpp"
 #include "core/Types.hpp"
+#include "integrators/InitialState.hpp"
 
 using namespace flexsens;
 
@@ -56,6 +58,14 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a scene and print its sizes");
   check->add_option("scene", checkPath, "scene file (YAML)")->required();
 
+  std::string modesPath;
+  int modesCount = 5;
+  bool modesAsJson = false;
+  auto* modes = app.add_subcommand("modes", "natural frequencies of the constrained model linearized at its initial state, time-step limits and the parts that set them");
+  modes->add_option("scene", modesPath, "scene file (YAML)")->required();
+  modes->add_option("--count", modesCount, "modes listed at each end of the spectrum (default 5)")->check(CLI::Range(1, 1000));
+  modes->add_flag("--json", modesAsJson, "print JSON instead of the text report");
+
   StudyOptions study;
   auto* studyCmd = app.add_subcommand("study", "speed-versus-accuracy study of the sensitivity methods and integrators (markdown report + CSV)");
   studyCmd->add_option("--out", study.outDir, "report directory (default bench/study)");
@@ -89,6 +99,17 @@ int main(int argc, char** argv) {
                 << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
                 << "  " << r.loadSteps << " load steps, " << r.newtonIterations << " Newton iterations, |R|_inf = "
                 << r.residualNorm << " N, |Phi|_inf = " << r.constraintNorm << "\n";
+      return 0;
+    }
+    if (*modes) {
+      // Exit 2 (numerical) when Phi_q is rank deficient at the initial positions: like `run`,
+      // the scene reads fine and the defect is one of the configuration, not of a file line.
+      Scene sc = readScene(modesPath);
+      Assembler as(*sc.model);
+      const VecX p = sc.model->nominalParameters();
+      requireIndependentConstraints(as, projectPositions(as, sc.model->initialPositions(), p), p);
+      const ModalAnalysis a = analyzeModes(as, consistentState(as, p), p, modesCount);
+      std::cout << (modesAsJson ? modesJson(a, modesCount) : modesPath + ": " + modesReport(a, modesCount));
       return 0;
     }
     if (*check) {

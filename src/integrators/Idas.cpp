@@ -1,4 +1,5 @@
 #include "integrators/Idas.hpp"
+#include "integrators/InitialState.hpp"
 
 #include <idas/idas.h>
 #include <nvector/nvector_serial.h>
@@ -214,6 +215,11 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   pack(start.x, n, m, y.get(), yp.get());
   view(id.get()).setZero();
   view(id.get()).head(2 * n).setOnes();  // q, v differential; lambda, mu algebraic
+  const std::vector<int> massless = masslessCoordinates(as, p);  // equilibrium rows: algebraic
+  if (n > 0 && static_cast<int>(massless.size()) == n)
+    throw InputError("integrator idas: every coordinate is massless (inertia: none), the model is "
+                     "static; use bdf1 or trapezoidal (each step an equilibrium) or the static solver");
+  for (int i : massless) view(id.get())[i] = view(id.get())[n + i] = 0.0;
 
   std::unique_ptr<void, IdaDeleter> mem(IDACreate(ctx.get()));
   if (!mem) throw NumericalError("IDAS: IDACreate failed");

@@ -1,5 +1,7 @@
 #include "integrators/InitialState.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "core/SparseLU.hpp"
@@ -49,14 +51,181 @@ SparseLU& factorAugmented(const Assembler& as, const VecX& q, const VecX& p, dou
   lu.factor(augmentedMatrix(as, q, p), what.str());
   return lu;
 }
+
+/// Solves [M Phi_q^T; Phi_q 0] x = rhs. With massless coordinates the matrix is singular in
+/// their accelerations (the equilibrium rows carry none): least-norm solution by a dense
+/// complete orthogonal decomposition; a_m is then not the quasi-static acceleration, which no
+/// integrator reads (M a has no massless rows; IDAS treats them as algebraic).
+VecX solveAugmented(const Assembler& as, const VecX& q, const VecX& p, double t, const VecX& rhs) {
+  try {
+    return factorAugmented(as, q, p, t).solve(rhs);
+  } catch (const NumericalError&) {
+    if (masslessCoordinates(as, p).empty()) throw;
+  }
+  const MatX A = MatX(augmentedMatrix(as, q, p));
+  const auto cod = A.completeOrthogonalDecomposition();
+  const VecX x = cod.solve(rhs);
+  const double res = (A * x - rhs).lpNorm<Eigen::Infinity>();
+  if (!(res <= 1e-8 * (1.0 + rhs.lpNorm<Eigen::Infinity>()))) {
+    std::ostringstream os;
+    os << "augmented matrix [M Phi_q^T; Phi_q 0] at t = " << t << " s: the system with massless "
+          "coordinates has no solution (residual " << res << "; are the massless parts in equilibrium?)";
+    throw NumericalError(os.str());
+  }
+  return x;
+}
 }  // namespace
+
+std::vector<int> masslessCoordinates(const Assembler& as, const VecX& p) {
+  const SpMat M = as.mass(p);
+  VecX rowAbs = VecX::Zero(as.n());
+  for (int c = 0; c < M.outerSize(); ++c)
+    for (SpMat::InnerIterator it(M, c); it; ++it) rowAbs[it.row()] += std::abs(it.value());
+  std::vector<int> r;
+  for (int i = 0; i < as.n(); ++i)
+    if (rowAbs[i] == 0.0) r.push_back(i);
+  return r;
+}
+
+namespace {
+
+/// The massless subproblem at (q, lambda): coordinates mc, constraint rows cr touching them,
+/// its Jacobian J = [K_mm  k Phi_Cm^T; k Phi_Cm  0] and the full K = -dQ/dq + H(lambda), Phi_q.
+/// The constraint rows and columns are scaled by k = max |K_mm| [N/m] so that the pivots of
+/// both blocks are of one size (unscaled, J K^-1 J^T ~ 1/k looks singular to a pivot threshold).
+struct MasslessBlock {
+  std::vector<int> mc, cr;
+  MatX K, Jq, J;
+  double kappa = 1.0;
+  MasslessBlock(const Assembler& as, const VecX& q, const VecX& v, const VecX& lambda, const VecX& p,
+                std::vector<int> massless) : mc(std::move(massless)) {
+    const int n = as.n(), m = as.m();
+    SparseAccumulator acc;
+    acc.begin(n, n);
+    as.addForceJacobian(acc, q, v, p, 1.0, 0.0, 0, 0, 0);
+    if (m) as.addHessian(acc, q, p, lambda, 1.0, 0, 0);
+    K = MatX(acc.finish());
+    Jq = m ? as.phiQDense(q, p) : MatX(0, n);
+    for (int r = 0; r < m; ++r)
+      for (int i : mc)
+        if (Jq(r, i) != 0.0) {
+          cr.push_back(r);
+          break;
+        }
+    const int a = static_cast<int>(mc.size()), b = static_cast<int>(cr.size());
+    J = MatX::Zero(a + b, a + b);
+    for (int i = 0; i < a; ++i)
+      for (int j = 0; j < a; ++j) J(i, j) = K(mc[i], mc[j]);
+    kappa = std::max(J.topLeftCorner(a, a).cwiseAbs().maxCoeff(), 1e-300);
+    for (int i = 0; i < a; ++i)
+      for (int j = 0; j < b; ++j) J(i, a + j) = J(a + j, i) = kappa * Jq(cr[j], mc[i]);
+  }
+  /// Rows mc of x (full) and rows cr of y (constraints, scaled by kappa), stacked.
+  VecX stack(const VecX& x, const VecX& y) const {
+    VecX r(mc.size() + cr.size());
+    for (size_t i = 0; i < mc.size(); ++i) r[i] = x[mc[i]];
+    for (size_t j = 0; j < cr.size(); ++j) r[mc.size() + j] = kappa * y[cr[j]];
+    return r;
+  }
+  /// x with its massless entries set to zero.
+  VecX others(VecX x) const {
+    for (int i : mc) x[i] = 0.0;
+    return x;
+  }
+  /// Solves J z = rhs; a singular J is a massless direction without stiffness, named.
+  VecX solve(const Assembler& as, const VecX& rhs) const {
+    Eigen::FullPivLU<MatX> lu(J);
+    lu.setThreshold(1e-10);
+    if (!lu.isInvertible()) {
+      const VecX z = lu.kernel().col(0);
+      std::vector<int> idx;
+      for (size_t i = 0; i < mc.size(); ++i) idx.push_back(static_cast<int>(i));
+      std::sort(idx.begin(), idx.end(), [&](int x, int y) { return std::abs(z[x]) > std::abs(z[y]); });
+      std::string names;
+      for (size_t k = 0; k < idx.size() && k < 4 && std::abs(z[idx[k]]) > 0.1 * std::abs(z[idx[0]]); ++k)
+        names += (k ? ", " : "") + as.model().coordinateLabel(mc[idx[k]]);
+      throw NumericalError("massless coordinates without stiffness: " + names +
+                           " carry no mass (inertia: none) and nothing restrains them in that direction; "
+                           "give them mass, stiffness (e.g. a bending stiffness) or a constraint");
+    }
+    return lu.solve(rhs);
+  }
+};
+
+}  // namespace
+
+void equilibrateMassless(const Assembler& as, State& s, const VecX& p) {
+  const std::vector<int> mc = masslessCoordinates(as, p);
+  if (mc.empty()) return;
+  const int n = as.n(), m = as.m();
+  if (s.lambda.size() != m) s.lambda = VecX::Zero(m);
+  if (s.v.size() != n) s.v = VecX::Zero(n);
+  {  // a damping force on a massless coordinate would make it a first-order ODE, not algebraic
+    SparseAccumulator acc;
+    acc.begin(n, n);
+    as.addForceJacobian(acc, s.q, s.v, p, 0.0, 1.0, 0, 0, 0);
+    const MatX C = MatX(acc.finish());
+    for (int i : mc)
+      if (C.row(i).lpNorm<Eigen::Infinity>() != 0.0)
+        throw InputError("coordinate " + as.model().coordinateLabel(i) + " is massless (inertia: none) "
+                         "but carries a damping force (e.g. a spring_damper with damping): not supported; "
+                         "give the node mass or remove the damping");
+  }
+  double err = 0.0;
+  for (int it = 0; it < 50; ++it) {
+    const MasslessBlock b(as, s.q, s.v, s.lambda, p, mc);
+    VecX F = -as.force(s.q, s.v, p);
+    VecX G = VecX::Zero(m);
+    if (m) {
+      F += as.phiQTransposeTimes(s.q, p, s.lambda);
+      G = as.phi(s.q, p);
+    }
+    const VecX r = b.stack(F, G);
+    const VecX dz = b.solve(as, VecX(-r));
+    for (size_t i = 0; i < b.mc.size(); ++i) s.q[b.mc[i]] += dz[i];
+    for (size_t j = 0; j < b.cr.size(); ++j) s.lambda[b.cr[j]] += b.kappa * dz[b.mc.size() + j];
+    err = dz.head(b.mc.size()).lpNorm<Eigen::Infinity>();
+    if (err <= 1e-12 * (1.0 + s.q.lpNorm<Eigen::Infinity>())) {
+      // Quasi-static velocities: d/dt of F = 0 and Phi_C = 0 with the other velocities given.
+      const MasslessBlock c(as, s.q, s.v, s.lambda, p, mc);
+      const VecX vo = c.others(s.v);
+      const VecX dv = c.solve(as, VecX(-c.stack(c.K * vo, m ? VecX(c.Jq * vo) : VecX())));
+      for (size_t i = 0; i < c.mc.size(); ++i) s.v[c.mc[i]] = dv[i];
+      return;
+    }
+  }
+  std::ostringstream os;
+  os << "the massless coordinates could not be brought to equilibrium at t = " << s.t
+     << " s: last Newton update " << err << " m after 50 iterations";
+  throw NumericalError(os.str());
+}
+
+void masslessSensitivity(const Assembler& as, const State& x, const VecX& p, int k, State& d) {
+  const std::vector<int> mc = masslessCoordinates(as, p);
+  if (mc.empty()) return;
+  const int m = as.m();
+  const MasslessBlock b(as, x.q, x.v, x.lambda, p, mc);
+  // d/dp_k of F = Phi_q^T lambda - Q and Phi_C at fixed massless unknowns.
+  const VecX qo = b.others(d.q);
+  VecX dF = b.K * qo - as.forceParamDerivative(x.q, x.v, p, k);
+  VecX dG = VecX::Zero(m);
+  if (m) {
+    dF += as.phiQParamDerivativeTransposeTimes(x.q, p, k, x.lambda);
+    dG = b.Jq * qo + as.phiParamDerivative(x.q, p, k);
+  }
+  const VecX z = b.solve(as, VecX(-b.stack(dF, dG)));
+  for (size_t i = 0; i < mc.size(); ++i) d.q[mc[i]] = z[i];
+  const VecX vo = b.others(d.v);
+  const VecX w = b.solve(as, VecX(-b.stack(b.K * vo, m ? VecX(b.Jq * vo) : VecX())));
+  for (size_t i = 0; i < mc.size(); ++i) d.v[mc[i]] = w[i];
+}
 
 void solveAccelerations(const Assembler& as, State& s, const VecX& p) {
   const int n = as.n(), m = as.m();
   VecX rhs(n + m);
   rhs.head(n) = as.force(s.q, s.v, p);
   if (m) rhs.tail(m) = -as.hessianQuadratic(s.q, p, s.v);
-  const VecX x = factorAugmented(as, s.q, p, s.t).solve(rhs);
+  const VecX x = solveAugmented(as, s.q, p, s.t, rhs);
   s.a = x.head(n);
   s.lambda = x.tail(m);
 }
@@ -77,7 +246,7 @@ void solveAccelerationSensitivity(const Assembler& as, const State& x, const Vec
   if (m)
     rhs.tail(m) = -(as.hessianRowsTimes(x.q, p, x.a, d.q) + as.phiQParamDerivativeTimes(x.q, p, k, x.a) +
                     2.0 * as.hessianRowsTimes(x.q, p, x.v, d.v));
-  const VecX sol = factorAugmented(as, x.q, p, x.t).solve(rhs);
+  const VecX sol = solveAugmented(as, x.q, p, x.t, rhs);
   d.a = sol.head(n);
   d.lambda = sol.tail(m);
 }

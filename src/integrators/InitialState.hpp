@@ -5,6 +5,8 @@
 // and the parameter derivative of that same system for a_p and lambda_p.
 #pragma once
 
+#include <vector>
+
 #include "core/Assembler.hpp"
 #include "integrators/State.hpp"
 
@@ -19,6 +21,25 @@ void solveAccelerations(const Assembler& as, State& s, const VecX& p);
 /// Given x (q, v, a, lambda) and d.q, d.v for parameter k, fills d.a and d.lambda.
 void solveAccelerationSensitivity(const Assembler& as, const State& x, const VecX& p, int k,
                                   State& d);
+
+// --- massless coordinates (parts with `inertia: none`): rows of M that are zero. Their
+// equations of motion are equilibrium equations F = (Phi_q^T lambda - Q)_m = 0, so at the start
+// their positions, velocities and sensitivities follow from the other coordinates.
+/// Coordinates whose row of M(p) is zero, ascending (empty for most models).
+std::vector<int> masslessCoordinates(const Assembler& as, const VecX& p);
+/// Moves the massless coordinates of s onto equilibrium with the others held: unknowns q_m and
+/// the multipliers of the constraints C touching them, equations F = 0 and Phi_C = 0 (Newton);
+/// then sets v_m to the quasi-static rate (dF/dt = 0 and d Phi_C / dt = 0 at the given v of the
+/// other coordinates; damping forces on massless coordinates are not supported). Throws
+/// NumericalError naming the coordinates of a massless direction without stiffness.
+void equilibrateMassless(const Assembler& as, State& s, const VecX& p);
+/// The same for a parameter sensitivity d of state x (d.q, d.v of the other coordinates
+/// given): d.q_m exactly from the derivative of those equations with respect to p_k; d.v_m as
+/// the rate at fixed K (exact when x.v = 0; otherwise the term with second derivatives of Q is
+/// left out). No integrator reads d.v_m at the start: IDAS treats v_m as algebraic (solved in
+/// its first step), the fixed-step schemes read velocities of massless coordinates only through
+/// damping forces, which massless coordinates may not carry.
+void masslessSensitivity(const Assembler& as, const State& x, const VecX& p, int k, State& d);
 
 /// Augmented matrix [M + c H(lambda)..] helpers shared by the integrators.
 SpMat augmentedMatrix(const Assembler& as, const VecX& q, const VecX& p);

@@ -281,6 +281,10 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
   const int m = as.m();
   const double h = set.dt;
   if (!(h > 0)) throw InputError("integrator maggi_rk4: needs a positive fixed step dt");
+  if (!masslessCoordinates(as, p).empty())  // an explicit ODE needs a nonsingular reduced mass
+    throw InputError("integrator maggi_rk4: the model has massless parts (inertia: none), whose "
+                     "equilibrium equations an explicit scheme cannot solve; use idas, bdf1, "
+                     "trapezoidal or generalized_alpha");
   const double t0 = start.x.t;
   const long nsteps = std::lround((set.tEnd - t0) / h);
   const long frameEvery = std::max(1L, std::lround(set.frameInterval / h));
