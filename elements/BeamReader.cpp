@@ -2,14 +2,12 @@
 // meshed from a Gmsh curve) becomes axial segments plus bending hinges sharing one section.
 #include "elements/Beam.hpp"
 #include "elements/BeamHinge3D.hpp"
+#include "elements/BeamSectionReader.hpp"
 #include "scene/KindTable.hpp"
 
 namespace flexsens {
 
-namespace {
-
-/// section: {side} (square) or {area, inertia}; every entry bindable as a parameter.
-std::shared_ptr<BeamSection> readSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
+std::shared_ptr<BeamSection> readBeamSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
   auto sec = std::make_shared<BeamSection>();
   sec->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
   sec->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
@@ -27,8 +25,6 @@ std::shared_ptr<BeamSection> readSection(const YamlReader& r, const YAML::Node& 
   return sec;
 }
 
-}  // namespace
-
 void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
@@ -45,7 +41,7 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
              "expected initial (the rest shape is the initial positions) or straight (rest "
              "segment lengths from the initial positions, zero rest curvature); got '" + rs + "'");
   }
-  auto sec = readSection(r, el, path);
+  auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
   ctx.bodies[name] = {ids, nullptr};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {

@@ -27,6 +27,7 @@ const KindTable& constraintKinds();  ///< `constraints:` item types
 // The readers (one per kind; defined beside their element or constraint).
 void readRigidBar(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readSpringDamper(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readAncfCable(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRotationalSpring(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
