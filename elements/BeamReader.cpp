@@ -2,16 +2,16 @@
 // meshed from a Gmsh curve) becomes axial segments plus bending hinges sharing one section.
 #include "elements/Beam.hpp"
 #include "elements/BeamHinge3D.hpp"
+#include "elements/BeamSectionReader.hpp"
 #include "scene/KindTable.hpp"
 
 namespace flexsens {
 
-namespace {
-
 /// section: {side} (square) or {area, inertia}; every entry bindable as a parameter.
 /// inertia: consistent (default: consistent segment masses from density) or none (massless:
 /// no density, no mass, no gravity load; the free nodes' equations become equilibrium ones).
-std::shared_ptr<BeamSection> readSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
+/// Shared with the ANCF cable (elements/BeamSectionReader.hpp).
+std::shared_ptr<BeamSection> readBeamSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
   auto sec = std::make_shared<BeamSection>();
   sec->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
   if (el["inertia"]) {
@@ -42,6 +42,8 @@ std::shared_ptr<BeamSection> readSection(const YamlReader& r, const YAML::Node& 
   }
   return sec;
 }
+
+namespace {
 
 /// clamp: start | end | both. The end node is a ground node and the beam's tangent there is
 /// held by a bending hinge over a ghost ground node one segment length outside the beam on
@@ -99,7 +101,7 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
              "expected initial (the rest shape is the initial positions) or straight (rest "
              "segment lengths from the initial positions, zero rest curvature); got '" + rs + "'");
   }
-  auto sec = readSection(r, el, path);
+  auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
   ctx.bodies[name] = {ids, nullptr};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {

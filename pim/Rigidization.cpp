@@ -8,14 +8,15 @@
 namespace flexsens {
 
 AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<int> nodes,
-                                                 VecX coefficients, int dim)
-    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim) {
+                                                 VecX coefficients, int dim, bool slope)
+    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim), slope_(slope) {
   const int k = static_cast<int>(c_.size());
+  const int w = slope ? 2 * dim : dim;  // local coordinates per node
   const MatX I = MatX::Identity(dim, dim);
-  J_.setZero(dim, dim * (k + 2));
-  J_.block(0, 0, dim, dim) = (c_.sum() - 1.0) * I;            // A
-  for (int j = 0; j < k; ++j) J_.block(0, dim * (1 + j), dim, dim) = -c_[j] * I;  // basis ends
-  J_.block(0, dim * (k + 1), dim, dim) = I;                   // the attached point
+  J_.setZero(dim, w * (k + 2));
+  J_.block(0, 0, dim, dim) = (c_.sum() - (slope ? 0.0 : 1.0)) * I;  // A
+  for (int j = 0; j < k; ++j) J_.block(0, w * (1 + j), dim, dim) = -c_[j] * I;  // basis ends
+  J_.block(0, w * (k + 1) + (slope ? dim : 0), dim, dim) = I;  // the attached point or slope
 }
 
 // Value template: Lambda_i = J_ x (linear; J_ holds the coefficients, see the constructor).
@@ -108,6 +109,23 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
     ids.push_back(nodes[i]);
     R.constraints.push_back(std::make_unique<AttachedPointConstraint>(
         name + ".rigid.point(" + m.nodes[nodes[i]].name + ")", ids, c, dim));
+  }
+  // Free slopes (ANCF nodes), when every basic point carries a slope too (an ANCF body; a
+  // node of another kind among them leaves the slopes free: pinned to the body).
+  bool basicSlopes = true;
+  for (int b : basic) basicSlopes = basicSlopes && m.nodes[nodes[b]].hasSlope();
+  for (size_t i = 0; i < nodes.size() && basicSlopes; ++i) {
+    const Node& nd = m.nodes[nodes[i]];
+    if (!nd.slopeFree()) continue;
+    const VecX c = metric.solve(B.transpose() * nd.slope);
+    if ((B * c - nd.slope).norm() > 1e-9 * nd.slope.norm())
+      throw InputError(where + ": the slope of node '" + nd.name + "' is not a direction within the span of '" +
+                       name + "' (a straight body's slopes must lie along it)");
+    std::vector<int> ids;
+    for (int b : basic) ids.push_back(nodes[b]);
+    ids.push_back(nodes[i]);
+    R.constraints.push_back(std::make_unique<AttachedPointConstraint>(
+        name + ".rigid.slope(" + nd.name + ")", ids, c, dim, true));
   }
   return R;
 }

@@ -3,6 +3,8 @@
 // mutual distances (quadratic constraints); every other point i keeps its coordinates c_i in
 // the basis e_j = r_j - r_A, found once from the metric G c_i = b_i:
 //   Lambda_i = r_i - r_A - sum_j c_ij e_j = C_i q   (linear, dim rows).
+// A node's free slope (ANCF) is a direction fixed in the body, with coordinates from G c = B^T r_i':
+//   Lambda_i' = r_i' - sum_j c_ij e_j               (linear, dim rows).
 // Used by the PIM for initially undeformed flexible bodies, and for rigid models of bodies.
 #pragma once
 
@@ -17,14 +19,19 @@
 namespace flexsens {
 
 /// Linear constraint Lambda_i = r_i - r_A - sum_j c_j (r_Bj - r_A); nodes = (A, B.., i).
+/// With `slope`, node i's slope instead: Lambda_i' = r_i' - sum_j c_j (r_Bj - r_A); the local
+/// coordinates are then positions and slopes of every node (all must carry one).
 class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint> {
  public:
-  AttachedPointConstraint(std::string name, std::vector<int> nodes, VecX coefficients, int dim);
-  /// Any linear point relation J x = 0 over the nodes' coordinates (dim rows); e.g. a planar
-  /// body's point r_P = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A).
+  AttachedPointConstraint(std::string name, std::vector<int> nodes, VecX coefficients, int dim,
+                          bool slope = false);
+  /// Any linear point relation J x = 0 over the nodes' positions (dim rows, position-only
+  /// nodes); e.g. a planar body's point r_P = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A).
   AttachedPointConstraint(std::string name, std::vector<int> nodes, MatX J)
-      : KernelConstraint(std::move(name), std::move(nodes)), dim_(static_cast<int>(J.rows())), J_(std::move(J)) {}
-  std::string kind() const override { return "attached_point"; }
+      : KernelConstraint(std::move(name), std::move(nodes)), dim_(static_cast<int>(J.rows())), slope_(false),
+        J_(std::move(J)) {}
+  std::string kind() const override { return slope_ ? "attached_slope" : "attached_point"; }
+  bool usesSlopes() const override { return slope_; }
   int rows() const override { return dim_; }
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
@@ -40,7 +47,8 @@ class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint>
   VecT<T> phiT(const LocalState& s, const VecT<T>& x, const VecT<T>& props) const;
   VecX c_;
   int dim_;
-  MatX J_;  ///< constant Jacobian, dim x dim*(k+2)
+  bool slope_;
+  MatX J_;  ///< constant Jacobian, dim x (coordinates per node)*(k+2)
 };
 
 struct Rigidization {

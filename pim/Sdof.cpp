@@ -5,10 +5,7 @@
 namespace flexsens {
 
 namespace {
-double coord(const Model& m, const VecX& q, int node, int c) {
-  const int d = m.dof(node, c);
-  return d < 0 ? m.nodes[node].position[c] : q[d];
-}
+double coord(const Model& m, const VecX& q, int node, int c) { return m.coordinate(q, node, c); }
 }  // namespace
 
 double LinearSdof::value(const Model& m, const VecX& q) const {

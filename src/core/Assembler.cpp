@@ -13,9 +13,9 @@ std::vector<int> iota(int start, int count) {
 Assembler::Assembler(const Model& model, const ConstraintList* constraints, Derivatives derivatives)
     : model_(model), cons_(constraints ? *constraints : model.constraints), derivatives_(derivatives) {
   for (int g : model_.gravityParam) gravityBound_ = gravityBound_ || g >= 0;
-  for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes()));
+  for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes(), e->usesSlopes()));
   for (const auto& c : cons_) {
-    consDofs_.push_back(dofMap(c->nodes()));
+    consDofs_.push_back(dofMap(c->nodes(), c->usesSlopes()));
     consRow_.push_back(m_);
     m_ += c->rows();
   }
@@ -31,27 +31,40 @@ std::string Assembler::rowLabel(int r) const {
   return "row " + std::to_string(r);
 }
 
-std::vector<int> Assembler::dofMap(const std::vector<int>& nodes) const {
+std::vector<int> Assembler::dofMap(const std::vector<int>& nodes, bool slopes) const {
   std::vector<int> map;
-  for (int nd : nodes)
-    for (int c = 0; c < model_.dim; ++c) map.push_back(model_.dof(nd, c));
+  const int perNode = slopes ? 2 * model_.dim : model_.dim;
+  for (int nd : nodes) {
+    if (slopes && !model_.nodes[nd].hasSlope())
+      throw std::invalid_argument("node " + model_.nodes[nd].name + " carries no slope");
+    for (int c = 0; c < perNode; ++c) map.push_back(model_.dof(nd, c));
+  }
   return map;
 }
 
 LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
-                                 const VecX& p) const {
+                                 const VecX& p, bool slopes) const {
   const int d = model_.dim;
   LocalState s;
   s.dim = d;
-  s.x.resize(d * nodes.size());
-  s.v.setZero(d * nodes.size());
+  s.slopes = slopes;
+  const int w = s.nodeSize();
+  s.x.resize(w * nodes.size());
+  s.v.setZero(w * nodes.size());
   for (size_t a = 0; a < nodes.size(); ++a) {
     const Node& nd = model_.nodes[nodes[a]];
     if (nd.ground) {
-      s.x.segment(d * a, d) = nd.position;
+      s.x.segment(w * a, d) = nd.position;
     } else {
-      s.x.segment(d * a, d) = q.segment(nd.firstDof, d);
-      if (v.size()) s.v.segment(d * a, d) = v.segment(nd.firstDof, d);
+      s.x.segment(w * a, d) = q.segment(nd.firstDof, d);
+      if (v.size()) s.v.segment(w * a, d) = v.segment(nd.firstDof, d);
+    }
+    if (!slopes) continue;
+    if (nd.slopeDof < 0) {
+      s.x.segment(w * a + d, d) = nd.slope;  // clamped
+    } else {
+      s.x.segment(w * a + d, d) = q.segment(nd.slopeDof, d);
+      if (v.size()) s.v.segment(w * a + d, d) = v.segment(nd.slopeDof, d);
     }
   }
   s.p = &p;
@@ -106,7 +119,7 @@ VecX Assembler::force(const VecX& q, const VecX& v, const VecX& p) const {
   VecX Ql;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    el.force(localState(el.nodes(), q, v, p), Ql);
+    el.force(localState(el, q, v, p), Ql);
     if (el.isLoad()) Ql *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
@@ -120,7 +133,7 @@ VecX Assembler::phi(const VecX& q, const VecX& p) const {
   VecX pl;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    co.phi(localState(co.nodes(), q, VecX(), p), pl);
+    co.phi(localState(co, q, VecX(), p), pl);
     r.segment(consRow_[c], co.rows()) = pl;
   }
   return r;
@@ -131,7 +144,7 @@ VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    constraintJacobian(co, localState(co.nodes(), q, VecX(), p), J);
+    constraintJacobian(co, localState(co, q, VecX(), p), J);
     const auto& map = consDofs_[c];
     for (size_t j = 0; j < map.size(); ++j)
       if (map[j] >= 0) r.segment(consRow_[c], co.rows()) += J.col(j) * x[map[j]];
@@ -144,7 +157,7 @@ VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) 
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    constraintJacobian(co, localState(co.nodes(), q, VecX(), p), J);
+    constraintJacobian(co, localState(co, q, VecX(), p), J);
     const auto& map = consDofs_[c];
     const VecX g = J.transpose() * l.segment(consRow_[c], co.rows());
     for (size_t j = 0; j < map.size(); ++j)
@@ -171,7 +184,7 @@ VecX Assembler::hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, co
   MatX H;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState s = localState(co.nodes(), q, VecX(), p);
+    const LocalState s = localState(co, q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v), xl = gather(consDofs_[c], x);
     for (int i = 0; i < co.rows(); ++i) {
       constraintHessian(co, s, i, H);
@@ -186,7 +199,7 @@ VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const 
   MatX H;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState s = localState(co.nodes(), q, VecX(), p);
+    const LocalState s = localState(co, q, VecX(), p);
     const auto& map = consDofs_[c];
     const VecX xl = gather(map, x);
     for (int i = 0; i < co.rows(); ++i) {
@@ -215,7 +228,7 @@ SpMat Assembler::mass(const VecX& p) const {
 
 double Assembler::potentialEnergy(const VecX& q, const VecX& p) const {
   double U = 0.0;
-  for (const auto& el : model_.elements) U += el->potential(localState(el->nodes(), q, VecX(), p));
+  for (const auto& el : model_.elements) U += el->potential(localState(*el, q, VecX(), p));
   return U;
 }
 
@@ -227,7 +240,7 @@ void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t
   const VecX q0 = model_.initialPositions();  // mass is configuration independent
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    const LocalState ls = localState(el.nodes(), q0, none, p);
+    const LocalState ls = localState(el, q0, none, p);
     if (el.mass(ls, Ml)) acc.addBlock(elemDofs_[e], elemDofs_[e], Ml, s, r0, c0);
   }
 }
@@ -238,7 +251,7 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
   MatX Kq, Kv;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    elementForceJacobian(el, localState(el.nodes(), q, v, p), Kq, Kv);
+    elementForceJacobian(el, localState(el, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq * lf, r0, cq);
     if (sv != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kv, -sv * lf, r0, cv);
@@ -250,7 +263,7 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    constraintJacobian(co, localState(co.nodes(), q, VecX(), p), J);
+    constraintJacobian(co, localState(co, q, VecX(), p), J);
     const std::vector<int> rows = iota(consRow_[c], co.rows());
     if (transposed)
       acc.addBlock(consDofs_[c], rows, J.transpose(), s, r0, c0);
@@ -264,7 +277,7 @@ void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p,
   MatX H, sum;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState ls = localState(co.nodes(), q, VecX(), p);
+    const LocalState ls = localState(co, q, VecX(), p);
     const int nl = static_cast<int>(consDofs_[c].size());
     sum.setZero(nl, nl);
     for (int i = 0; i < co.rows(); ++i) {
@@ -280,7 +293,7 @@ void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX
   MatX H;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState ls = localState(co.nodes(), q, VecX(), p);
+    const LocalState ls = localState(co, q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v);
     MatX rowsBlock(co.rows(), consDofs_[c].size());
     for (int i = 0; i < co.rows(); ++i) {
@@ -302,9 +315,11 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
     if (model_.gravityParam[c] != k) continue;
     for (size_t e = 0; e < model_.elements.size(); ++e) {
       const auto& el = *model_.elements[e];
-      if (!el.mass(localState(el.nodes(), q, v, p), dM)) continue;
+      if (!el.mass(localState(el, q, v, p), dM)) continue;
+      // A uniform translation e_c: 1 on every node's position component c, 0 on slopes.
+      const int w = el.usesSlopes() ? 2 * model_.dim : model_.dim;
       VecX unit = VecX::Zero(dM.cols());
-      for (int a = 0; a < unit.size() / model_.dim; ++a) unit[a * model_.dim + c] = 1.0;
+      for (int a = 0; a < unit.size() / w; ++a) unit[a * w + c] = 1.0;
       const VecX g = loadFactor_ * (dM * unit);
       const auto& map = elemDofs_[e];
       for (size_t i = 0; i < map.size(); ++i)
@@ -313,7 +328,7 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
   }
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    if (!elementParameterDerivative(el, localState(el.nodes(), q, v, p), k, dQ, dM)) continue;
+    if (!elementParameterDerivative(el, localState(el, q, v, p), k, dQ, dM)) continue;
     if (el.isLoad()) dQ *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
@@ -329,7 +344,7 @@ VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) co
   const VecX q0 = model_.initialPositions();
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    if (!elementParameterDerivative(el, localState(el.nodes(), q0, VecX(), p), k, dQ, dM)) continue;
+    if (!elementParameterDerivative(el, localState(el, q0, VecX(), p), k, dQ, dM)) continue;
     if (dM.size() == 0) continue;
     const auto& map = elemDofs_[e];
     const VecX g = dM * gather(map, a);
@@ -345,7 +360,7 @@ VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (constraintParameterDerivative(co, localState(co.nodes(), q, VecX(), p), k, dphi, dJ))
+    if (constraintParameterDerivative(co, localState(co, q, VecX(), p), k, dphi, dJ))
       r.segment(consRow_[c], co.rows()) = dphi;
   }
   return r;
@@ -357,7 +372,7 @@ VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, co
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (constraintParameterDerivative(co, localState(co.nodes(), q, VecX(), p), k, dphi, dJ) && dJ.size())
+    if (constraintParameterDerivative(co, localState(co, q, VecX(), p), k, dphi, dJ) && dJ.size())
       r.segment(consRow_[c], co.rows()) = dJ * gather(consDofs_[c], x);
   }
   return r;
@@ -370,7 +385,7 @@ VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, 
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (!constraintParameterDerivative(co, localState(co.nodes(), q, VecX(), p), k, dphi, dJ) || !dJ.size())
+    if (!constraintParameterDerivative(co, localState(co, q, VecX(), p), k, dphi, dJ) || !dJ.size())
       continue;
     const VecX g = dJ.transpose() * l.segment(consRow_[c], co.rows());
     const auto& map = consDofs_[c];

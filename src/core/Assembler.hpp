@@ -81,15 +81,22 @@ class Assembler {
   VecX phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, int k,
                                          const VecX& l) const;  ///< Phi_qp^T l
 
-  /// Local state of a node list (ground nodes included at their fixed positions).
+  /// Local state of a node list (ground nodes included at their fixed positions; with
+  /// `slopes`, each node's slope after its position, a clamped slope at its fixed value).
   LocalState localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
-                        const VecX& p) const;
+                        const VecX& p, bool slopes = false) const;
+  LocalState localState(const Element& e, const VecX& q, const VecX& v, const VecX& p) const {
+    return localState(e.nodes(), q, v, p, e.usesSlopes());
+  }
+  LocalState localState(const Constraint& c, const VecX& q, const VecX& v, const VecX& p) const {
+    return localState(c.nodes(), q, v, p, c.usesSlopes());
+  }
   const std::vector<int>& elementDofs(size_t e) const { return elemDofs_[e]; }
   const std::vector<int>& constraintDofs(size_t c) const { return consDofs_[c]; }
   int constraintRow(size_t c) const { return consRow_[c]; }
 
  private:
-  std::vector<int> dofMap(const std::vector<int>& nodes) const;
+  std::vector<int> dofMap(const std::vector<int>& nodes, bool slopes) const;
   // The local derivative kernels, analytic or AD by derivatives_ (the loops are shared).
   void elementForceJacobian(const Element& el, const LocalState& s, MatX& dQdq, MatX& dQdv) const;
   bool elementParameterDerivative(const Element& el, const LocalState& s, int k, VecX& dQ,

@@ -3,10 +3,13 @@
 namespace flexsens {
 
 void Model::finalize() {
+  // Node after node: its position coordinates, then its slope's (if it carries a free one).
   n = 0;
   for (auto& nd : nodes) {
     nd.firstDof = nd.ground ? -1 : n;
     if (!nd.ground) n += dim;
+    nd.slopeDof = nd.slopeFree() ? n : -1;
+    if (nd.slopeFree()) n += dim;
   }
   m = 0;
   for (const auto& c : constraints) m += c->rows();
@@ -26,22 +29,30 @@ VecX Model::nominalParameters() const {
 
 VecX Model::initialPositions() const {
   VecX q(n);
-  for (const auto& nd : nodes)
+  for (const auto& nd : nodes) {
     if (!nd.ground) q.segment(nd.firstDof, dim) = nd.position;
+    if (nd.slopeDof >= 0) q.segment(nd.slopeDof, dim) = nd.slope;
+  }
   return q;
 }
 
 VecX Model::initialVelocities() const {
   VecX v(n);
-  for (const auto& nd : nodes)
+  for (const auto& nd : nodes) {
     if (!nd.ground) v.segment(nd.firstDof, dim) = nd.velocity;
+    if (nd.slopeDof >= 0)
+      v.segment(nd.slopeDof, dim) = nd.slopeRate.size() ? nd.slopeRate : VecX(VecX::Zero(dim));
+  }
   return v;
 }
 
 std::string Model::coordinateLabel(int i) const {
-  for (const auto& nd : nodes)
+  for (const auto& nd : nodes) {
     if (!nd.ground && i >= nd.firstDof && i < nd.firstDof + dim)
       return std::string(1, axisName(i - nd.firstDof)) + "(" + nd.name + ")";
+    if (nd.slopeDof >= 0 && i >= nd.slopeDof && i < nd.slopeDof + dim)
+      return std::string(1, axisName(i - nd.slopeDof)) + "'(" + nd.name + ")";
+  }
   return "?";
 }
 

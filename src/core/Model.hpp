@@ -10,12 +10,22 @@
 
 namespace flexsens {
 
+/// A node carries its position (dim coordinates) and, on ANCF elements, its slope: the
+/// position gradient r_s = dr/ds along the element's reference arc length s (dim more
+/// coordinates, dimensionless; unit length in the rest state). A ground node's position is
+/// fixed; its slope is free (a pin) unless the node is clamped (slope fixed too).
 struct Node {
   std::string name;
   VecX position;       ///< initial (and, for ground nodes, permanent) position, dim entries [m]
   VecX velocity;       ///< initial velocity, dim entries [m/s]
-  bool ground = false; ///< ground nodes carry no coordinates
-  int firstDof = -1;   ///< index of the node's first coordinate in q, or -1 for ground
+  bool ground = false; ///< the position carries no coordinates
+  int firstDof = -1;   ///< index of the node's first position coordinate in q, or -1 for ground
+  VecX slope;          ///< initial (clamped: permanent) slope r_s, dim entries [-]; empty: none
+  VecX slopeRate;      ///< initial d(r_s)/dt, dim entries [1/s] (empty: zero)
+  bool clamped = false; ///< the slope is fixed (no slope coordinates); only with a slope
+  int slopeDof = -1;   ///< index of the node's first slope coordinate in q, or -1
+  bool hasSlope() const { return slope.size() > 0; }
+  bool slopeFree() const { return hasSlope() && !clamped; }
 };
 
 struct Parameter {
@@ -50,12 +60,23 @@ struct Model {
   VecX nominalParameters() const;
   VecX initialPositions() const;
   VecX initialVelocities() const;
-  /// Label of coordinate i, e.g. "x(n2)".
+  /// Label of coordinate i, e.g. "x(n2)", or "x'(n2)" for the x component of n2's slope.
   std::string coordinateLabel(int i) const;
   /// Axis letter of component c of a node ('x', 'y' or 'z').
   char axisName(int c) const { return dim == 3 ? "xyz"[c] : plane[c]; }
-  /// Global coordinate index of component c of node i, or -1 for a ground node.
-  int dof(int node, int c) const { return nodes[node].ground ? -1 : nodes[node].firstDof + c; }
+  /// Global coordinate index of component c of node i, or -1 where it is fixed: c < dim the
+  /// position, dim <= c < 2 dim the slope (ANCF nodes).
+  int dof(int node, int c) const {
+    const Node& nd = nodes[node];
+    if (c < dim) return nd.ground ? -1 : nd.firstDof + c;
+    return nd.slopeDof < 0 ? -1 : nd.slopeDof + c - dim;
+  }
+  /// Value of component c (as in dof) of node i at q: q's entry, or the fixed value.
+  double coordinate(const VecX& q, int node, int c) const {
+    const int d = dof(node, c);
+    if (d >= 0) return q[d];
+    return c < dim ? nodes[node].position[c] : nodes[node].slope[c - dim];
+  }
 };
 
 }  // namespace flexsens

@@ -71,6 +71,20 @@ std::unique_ptr<Sdof> readBodySdof(SceneContext& ctx, const YAML::Node& z, const
   return s;
 }
 
+/// A node SDOF's component: an axis, or for a node that carries a slope (ANCF) an axis with a
+/// prime, the slope's component ("x'" = dx/ds); returned as in Model::dof.
+int nodeComponent(const SceneContext& ctx, int nd, const YAML::Node& n, const std::string& path) {
+  const std::string t = ctx.r.text(n, path);
+  const int c = t.size() == 2 && t[1] == '\'' ? axisIndex(ctx.m, t.substr(0, 1)) : -1;
+  if (c < 0) return component(ctx, n, path);
+  if (!ctx.m.nodes[nd].hasSlope())
+    ctx.r.fail(n, path, "node '" + ctx.m.nodes[nd].name + "' carries no slope (it is on no ancf_cable); expected an axis");
+  return ctx.m.dim + c;
+}
+std::string componentName(const Model& m, int c) {
+  return c < m.dim ? std::string(1, m.axisName(c)) : std::string(1, m.axisName(c - m.dim)) + "'";
+}
+
 std::unique_ptr<Sdof> readSdof(SceneContext& ctx, const YAML::Node& z, const std::string& path) {
   const YamlReader& r = ctx.r;
   const Model& m = ctx.m;
@@ -106,17 +120,17 @@ std::unique_ptr<Sdof> readSdof(SceneContext& ctx, const YAML::Node& z, const std
       if (!t.IsSequence() || t.size() != 3) r.fail(t, at(cp, j), "expected [coefficient, node, component]");
       const double coef = r.number(t[0], at(cp, j) + "[0]");
       const int nd = ctx.node(t[1], at(cp, j) + "[1]");
-      const int c = component(ctx, t[2], at(cp, j) + "[2]");
+      const int c = nodeComponent(ctx, nd, t[2], at(cp, j) + "[2]");
       s->terms.push_back({nd, c, coef});
-      s->name += (j ? " + " : "") + jsonish(coef) + " " + std::string(1, m.axisName(c)) + "(" + m.nodes[nd].name + ")";
+      s->name += (j ? " + " : "") + jsonish(coef) + " " + componentName(m, c) + "(" + m.nodes[nd].name + ")";
     }
     out = std::move(s);
   } else {
     auto s = std::make_unique<LinearSdof>();
     const int nd = ctx.node(r.require(z, "node", path), path + ".node");
-    const int c = component(ctx, r.require(z, "component", path), path + ".component");
+    const int c = nodeComponent(ctx, nd, r.require(z, "component", path), path + ".component");
     s->terms.push_back({nd, c, 1.0});
-    s->name = std::string(1, m.axisName(c)) + "(" + m.nodes[nd].name + ")";
+    s->name = componentName(m, c) + "(" + m.nodes[nd].name + ")";
     out = std::move(s);
   }
   if (z["name"]) out->name = r.text(z["name"], path + ".name");

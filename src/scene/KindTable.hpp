@@ -29,6 +29,7 @@ void readRigidBar(SceneContext&, const YAML::Node&, const std::string&, const st
 void readSpringDamper(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPointForce(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPlanarRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readAncfCable(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRotationalSpring(SceneContext&, const YAML::Node&, const std::string&, const std::string&);

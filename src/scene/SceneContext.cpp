@@ -68,6 +68,17 @@ std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::strin
   return ids;
 }
 
+void SceneContext::checkSlopes() const {
+  for (const auto& [id, k] : givenSlopes)
+    if (!slopeUsers.count(id))
+      r.fail(k.node, k.path, "node '" + m.nodes[id].name + "' is on no ancf_cable element, so it carries no slope; remove the slope");
+  for (const auto& [id, k] : clamps)
+    if (!slopeUsers.count(id))
+      r.fail(k.node, k.path, "clamped fixes a node's slope, but node '" + m.nodes[id].name +
+                                 "' is on no ancf_cable element and has none (a positions-only beam is "
+                                 "clamped by a second ground node beside its end)");
+}
+
 Quantity SceneContext::length(const YAML::Node& item, const std::string& key, const std::string& path, int a,
                               int b) const {
   const YAML::Node n = item[key];

@@ -84,6 +84,18 @@ class SceneContext {
   /// The angle at the initial positions [rad]; fails where it is undefined.
   double initialAngle(const AngleNodes& an, const YAML::Node& item, const std::string& path) const;
 
+  // ---------------------------------------------------------- slopes (ANCF nodes)
+  /// A node's `slope` or `clamped` key, kept for the checks that can only run after the
+  /// elements are read (checkSlopes).
+  struct SlopeKey {
+    YAML::Node node;
+    std::string path;
+  };
+  std::map<int, SlopeKey> givenSlopes, clamps;
+  std::set<int> slopeUsers;  ///< nodes whose slope an element uses
+  /// After the elements: every slope given is used by an element, every clamp has one to fix.
+  void checkSlopes() const;
+
   // --------------------------------------------------------------------- parameters
   /// Makes `q` bindable as parameter property "<item>.<key>".
   void bind(const std::string& key, Quantity* q) { bindings[key].push_back(q); }

@@ -36,7 +36,7 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node nd = list[i];
     const std::string path = at("nodes", i);
-    r.allowKeys(nd, path, {"name", "position", "velocity", "ground"});
+    r.allowKeys(nd, path, {"name", "position", "velocity", "ground", "slope", "clamped"});
     Node node;
     node.name = r.text(r.require(nd, "name", path), path + ".name");
     if (ctx.hasNode(node.name)) r.fail(nd["name"], path + ".name", "duplicate node name '" + node.name + "'");
@@ -45,7 +45,20 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
     node.ground = nd["ground"] ? r.boolean(nd["ground"], path + ".ground") : false;
     if (node.ground && node.velocity.norm() > 0)
       r.fail(nd["velocity"], path + ".velocity", "a ground node cannot have a velocity");
-    if (nd["velocity"]) ctx.velocitySetBy(static_cast<int>(ctx.m.nodes.size()), path + ".velocity");
+    const int id = static_cast<int>(ctx.m.nodes.size());
+    if (nd["velocity"]) ctx.velocitySetBy(id, path + ".velocity");
+    // slope: the initial position gradient of an ANCF node (a direction; stored with unit
+    // length, the reference arc length's). clamped: the slope stays fixed.
+    if (nd["slope"]) {
+      node.slope = r.vector(nd["slope"], path + ".slope", dim);
+      if (!(node.slope.norm() > 0)) r.fail(nd["slope"], path + ".slope", "expected a nonzero direction");
+      node.slope.normalize();
+      ctx.givenSlopes[id] = {nd["slope"], path + ".slope"};
+    }
+    if (nd["clamped"]) {
+      node.clamped = r.boolean(nd["clamped"], path + ".clamped");
+      if (node.clamped) ctx.clamps[id] = {nd["clamped"], path + ".clamped"};
+    }
     ctx.addNode(node);
   }
 }
@@ -144,6 +157,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (root["geometry"]) readGeometry(ctx, root["geometry"]);
   if (root["nodes"] || !root["geometry"]) readNodes(ctx, r.require(root, "nodes", ""));
   if (root["elements"]) readItems(ctx, root["elements"], "elements", "element", elementKinds());
+  ctx.checkSlopes();
   if (root["constraints"]) readItems(ctx, root["constraints"], "constraints", "constraint", constraintKinds());
   CaseSelection sel;
   sel.name = caseName;

@@ -1,0 +1,68 @@
+// Scene reader of ancf_cable (elements/AncfCable.hpp): a node chain (listed or meshed from a
+// Gmsh curve) becomes ANCF cable elements sharing one section; each node of the chain carries
+// a slope. A node's slope is the scene's `slope` (a direction) or else the chain's tangent
+// there: the direction of the adjacent segment at the ends, the mean of the two adjacent unit
+// directions inside. A ground node is pinned (its slope free) unless it is `clamped`.
+#include "elements/AncfCable.hpp"
+#include "elements/BeamSectionReader.hpp"
+#include "scene/KindTable.hpp"
+
+namespace flexsens {
+
+void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  const int d = m.dim;
+  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape"});
+  const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
+  auto nodeKey = [&](size_t j) { return el["nodes"] ? el["nodes"][j] : el["curve"]; };
+  auto nodePath = [&](size_t j) { return el["nodes"] ? at(path + ".nodes", j) : path + ".curve"; };
+  // rest_shape: initial (default: the initial positions and slopes) or straight (along the
+  // first axis with the initial element lengths, slopes along it: no rest curvature).
+  bool straightRest = false;
+  if (el["rest_shape"]) {
+    const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
+    if (rs == "straight") straightRest = true;
+    else if (rs != "initial")
+      r.fail(el["rest_shape"], path + ".rest_shape",
+             "expected initial (the rest shape is the initial positions and slopes) or straight "
+             "(element lengths from the initial positions, no rest curvature); got '" + rs + "'");
+  }
+  std::vector<VecX> dir(ids.size() - 1);  // unit chord directions
+  for (size_t j = 0; j + 1 < ids.size(); ++j) {
+    const VecX e = m.nodes[ids[j + 1]].position - m.nodes[ids[j]].position;
+    if (!(e.norm() > 0))
+      r.fail(nodeKey(j + 1), nodePath(j + 1), "coincides with the previous node: zero element length");
+    dir[j] = e.normalized();
+  }
+  for (size_t j = 0; j < ids.size(); ++j) {
+    Node& nd = m.nodes[ids[j]];
+    ctx.slopeUsers.insert(ids[j]);
+    if (nd.hasSlope()) continue;  // given in the scene, or by an earlier ancf_cable
+    VecX t = j == 0 ? dir[0] : (j + 1 == ids.size() ? dir[j - 1] : VecX(dir[j - 1] + dir[j]));
+    if (!(t.norm() > 1e-12))
+      r.fail(nodeKey(j), nodePath(j), "the chain folds back at this node: give the node a slope");
+    nd.slope = t.normalized();
+  }
+  auto sec = readBeamSection(r, el, path);
+  ctx.bindAll(name, sec->properties());
+  ctx.bodies[name] = {ids, nullptr};
+  for (size_t j = 0; j + 1 < ids.size(); ++j) {
+    const Node &a = m.nodes[ids[j]], &b = m.nodes[ids[j + 1]];
+    VecX rest(4 * d);
+    if (straightRest) {
+      const VecX e1 = VecX::Unit(d, 0);
+      rest << VecX::Zero(d), e1, ctx.distance(ids[j], ids[j + 1]) * e1, e1;
+    } else {
+      rest << a.position, a.slope, b.position, b.slope;
+    }
+    try {
+      m.elements.push_back(std::make_unique<AncfCable>(name + ".element" + std::to_string(j),
+                                                       std::vector<int>{ids[j], ids[j + 1]}, sec, rest));
+    } catch (const std::invalid_argument& e) {  // e.g. a curved rest shape in 3D
+      r.fail(nodeKey(j + 1), nodePath(j + 1), std::string(e.what()) + (d == 3 ? " (or rest_shape: straight)" : ""));
+    }
+  }
+}
+
+}  // namespace flexsens
