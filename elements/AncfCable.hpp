@@ -35,12 +35,13 @@ class AncfCable : public KernelElement<AncfCable> {
   /// Gauss points of the axial and of the bending energy (the mass is integrated exactly).
   AncfCable(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
             const VecX& restX, int axialPoints = kAxialPoints, int bendingPoints = kBendingPoints);
-  /// Default quadrature. Axial: 2 points, reduced: with 3 (or 5) the axial strain is held
-  /// near zero at more points than a bent cubic can satisfy, and a thin element locks (the
-  /// N = 8 elastica, side 1 mm: errors 4e-3 with 3 points, <= 9e-5 with 2). The price is one
+  /// Default quadrature: 3 points for each energy, the fewest that leave no zero-energy mode
+  /// besides the rigid motions. 2 axial points relieve the locking of thin bent elements (the
+  /// N = 8 elastica, side 1 mm: errors 4e-3 with 3 points, <= 9e-5 with 2) at the price of one
   /// zero-energy mode at straight states (u' = c P2: both slopes lengthened along the axis,
-  /// positions fixed), global along a chain and removed by any clamped slope. Bending: 3.
-  static constexpr int kAxialPoints = 2, kBendingPoints = 3;
+  /// positions fixed), global along a chain and removed only by a clamped slope; in the pinned
+  /// pendulum it spoils convergence (bench/ancf_pendulum), so 2 is an option, not the default.
+  static constexpr int kAxialPoints = 3, kBendingPoints = 3;
   std::string kind() const override { return "ancf_cable"; }
   bool usesSlopes() const override { return true; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;

@@ -13,7 +13,8 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   const int d = m.dim;
-  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape"});
+  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "section", "rest_shape",
+                        "axial_points"});
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
   auto nodeKey = [&](size_t j) { return el["nodes"] ? el["nodes"][j] : el["curve"]; };
   auto nodePath = [&](size_t j) { return el["nodes"] ? at(path + ".nodes", j) : path + ".curve"; };
@@ -44,6 +45,14 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
       r.fail(nodeKey(j), nodePath(j), "the chain folds back at this node: give the node a slope");
     nd.slope = t.normalized();
   }
+  // axial_points: 3 (default) or 2 (locking-free for thin beams, but with a zero-energy mode
+  // that only a clamped slope removes; see elements/AncfCable.hpp).
+  int axialPoints = AncfCable::kAxialPoints;
+  if (el["axial_points"]) {
+    axialPoints = r.integer(el["axial_points"], path + ".axial_points");
+    if (axialPoints != 2 && axialPoints != 3)
+      r.fail(el["axial_points"], path + ".axial_points", "expected 3 (default) or 2 (reduced, for thin clamped beams)");
+  }
   auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
   ctx.bodies[name] = {ids, nullptr};
@@ -58,7 +67,8 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
     }
     try {
       m.elements.push_back(std::make_unique<AncfCable>(name + ".element" + std::to_string(j),
-                                                       std::vector<int>{ids[j], ids[j + 1]}, sec, rest));
+                                                       std::vector<int>{ids[j], ids[j + 1]}, sec, rest,
+                                                       axialPoints));
     } catch (const std::invalid_argument& e) {  // e.g. a curved rest shape in 3D
       r.fail(nodeKey(j + 1), nodePath(j + 1), std::string(e.what()) + (d == 3 ? " (or rest_shape: straight)" : ""));
     }
