@@ -1,6 +1,8 @@
 #include "app/Run.hpp"
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -9,7 +11,10 @@
 #include "integrators/Idas.hpp"
 #include "integrators/InitialState.hpp"
 #include "integrators/Maggi.hpp"
+#include "integrators/TimeGrid.hpp"
+#include "core/Interrupt.hpp"
 #include "output/ResultWriter.hpp"
+#include "output/RunDirectory.hpp"
 
 namespace flexsens {
 
@@ -54,6 +59,15 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     throw InputError(sc.file + ": key 'integrator.dt': the " + s.type +
                      " integrator needs a fixed step dt (give it in the scene or with --dt)");
   if (s.frameInterval > s.tEnd) s.frameInterval = s.tEnd;
+  // The scene's times were checked when read; overrides can break the rule (TimeGrid.hpp).
+  if (const auto pr = checkTimes(s)) {
+    std::string given;
+    for (const auto& [set, name] : {std::pair{opt.tEnd.has_value(), "--t-end"}, {opt.dt.has_value(), "--dt"},
+                                    {opt.integrator.has_value(), "--integrator"}})
+      if (set) given += (given.empty() ? "" : ", ") + std::string(name);
+    throw InputError((given.empty() ? sc.file : "option " + given) + ": key 'integrator." + pr->key + "': " +
+                     pr->message);
+  }
   if (opt.outDir) sc.output.directory = *opt.outDir;
 }
 
@@ -102,14 +116,25 @@ IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSen
 
 namespace {
 
-void writeSummary(const std::string& path, const Scene& sc, const IntegratorStats& st, double wall,
-                  const std::string& status, const std::string& error,
-                  const std::vector<std::string>& files, const PimReport* pim) {
+/// summary.json, written last: status, the time reached, where the frames landed, and the
+/// statistics up to there. Throws OutputError (shownPath and the OS reason) if it cannot.
+void writeSummary(const std::string& path, const std::string& shownPath, const Scene& sc,
+                  const IntegratorStats& st, double wall, const std::string& status,
+                  const std::string& error, const ResultWriter& w, const PimReport* pim) {
   const Model& m = *sc.model;
+  const std::vector<std::string>& files = w.files();
+  errno = 0;
   std::ofstream js(path);
+  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
   js << "{\n";
   js << "  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
+  const auto& ft = w.frameTimes();
+  js << "  \"t_reached\": " << jsonNumber(w.timeReached()) << ",\n";
+  js << "  \"frames\": {\"count\": " << ft.size() << ", \"first_t\": " << jsonNumber(ft.empty() ? 0.0 : ft.front())
+     << ", \"last_t\": " << jsonNumber(ft.empty() ? 0.0 : ft.back()) << ", \"spacing\": "
+     << jsonNumber(frameSpacing(sc.integrator)) << ", \"requested_interval\": " << jsonNumber(sc.integrator.frameInterval)
+     << "},\n";
   js << "  \"scene\": " << jsonString(sc.file) << ",\n";
   if (pim && sc.pimCase) {
     const PimCase& c = *sc.pimCase;
@@ -164,6 +189,8 @@ void writeSummary(const std::string& path, const Scene& sc, const IntegratorStat
   for (size_t i = 0; i < files.size(); ++i)
     js << (i ? ", " : "") << jsonString(std::filesystem::path(files[i]).filename().string());
   js << "]\n}\n";
+  js.close();
+  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
 }
 
 }  // namespace
@@ -177,14 +204,28 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   PimReport pim;
   const StateWithSens start = initialState(as, p, sc.pimCase.get(), &pim);  // before any file is written
 
-  std::filesystem::create_directories(outDir);
-  const std::string summary = outDir + "/summary.json";
-  std::filesystem::remove(summary);  // a stale summary must not describe this run
-  ResultWriter writer(sc, outDir, "");
+  // Locked, staged, and moved into place whole at the end: never a mixture with an earlier
+  // run's files, never a half-written directory under the final name.
+  RunDirectory dir(outDir);
+  ResultWriter writer(sc, dir.staging(), "", dir.final());
   RunResult res;
   res.directory = outDir;
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  // Ends the run with `status`: closes the files, writes summary.json last, moves the
+  // directory into place. A write failure on the way becomes an OutputError that also says
+  // how the run itself ended.
+  auto finish = [&](const std::string& status, const std::string& error, const IntegratorStats& st) {
+    try {
+      writer.close();
+      writeSummary(dir.staging() + "/summary.json", dir.final() + "/summary.json", sc, st, elapsed(), status,
+                   error, writer, &pim);
+      dir.commit();
+    } catch (const OutputError& e) {
+      throw OutputError(std::string(e.what()) + (status == "complete" ? "" : " (the run itself " + status + ": " + error + ")") +
+                        "; nothing was moved into " + dir.final());
+    }
   };
   try {
     if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
@@ -193,14 +234,19 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
     } else {
       res.stats = integrate(as, p, start, sc.integrator, writer);
     }
+  } catch (const OutputError& e) {
+    // A result file could not be written: the staging directory goes (RunDirectory's
+    // destructor), earlier results stay as they were.
+    throw OutputError(std::string(e.what()) + "; nothing was moved into " + dir.final());
+  } catch (const Interrupted& e) {
+    finish("interrupted", e.what(), writer.statistics());
+    throw;
   } catch (const std::exception& e) {
-    writer.close();
-    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files(), &pim);
+    finish("failed", e.what(), writer.statistics());
     throw;
   }
-  writer.close();
   res.wallSeconds = elapsed();
-  writeSummary(summary, sc, res.stats, res.wallSeconds, "complete", "", writer.files(), &pim);
+  finish("complete", "", res.stats);
   return res;
 }
 
