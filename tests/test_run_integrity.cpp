@@ -203,7 +203,7 @@ TEST(RunIntegrity, SecondConcurrentRunRefusesNamingTheDirectory) {
   ASSERT_TRUE(progressed(first, out, 5)) << readFile(s.base / "first.err");
   const int second = run({kPendulum, "--t-end", "0.1", "--out", out.string()}, s.base / "second");
   const std::string err = readFile(s.base / "second.err");
-  EXPECT_EQ(second, 5) << err;
+  EXPECT_EQ(second, 6) << err;
   EXPECT_NE(err.find(out.string()), std::string::npos) << err;
   EXPECT_NE(err.find("another flexsens run"), std::string::npos) << err;
 

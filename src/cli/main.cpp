@@ -1,6 +1,7 @@
 // flexsens command line: `flexsens run SCENE [...]` and `flexsens check SCENE`.
 // Exit codes: 0 success, 1 bad input (scene or options), 2 numerical failure, 3 other error,
-// 4 results could not be written, 5 the output directory is in use by another run,
+// 4 results could not be written, 6 the output directory is in use by another run (5 is
+// taken on main by the energy audit's "suspect"),
 // 128 + signal (130 SIGINT, 143 SIGTERM) interrupted, results up to the time reached.
 #include <CLI/CLI.hpp>
 #include <malloc.h>
@@ -134,7 +135,7 @@ int main(int argc, char** argv) {
     return 4;
   } catch (const DirectoryBusy& e) {
     std::cerr << "flexsens: error: " << e.what() << "\n";
-    return 5;
+    return 6;
   } catch (const NumericalError& e) {
     std::cerr << "flexsens: numerical failure: " << e.what() << "\n";
     return 2;
