@@ -28,7 +28,8 @@ import tempfile
 import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LOCATED = re.compile(r"flexsens: error: (.*):([0-9]+):([0-9]+): key '[^']*': \S")
+# The key may itself hold a quote (a mutated `nod'`): the location is what must be there.
+LOCATED = re.compile(r"flexsens: error: (.*):([0-9]+):([0-9]+): key '.*': \S")
 SPECIAL = [0, -1, 1, 1e308, -1e308, 1e-308, 5e-324, float("nan"), float("inf"), 2147483647,
            -2147483648, 9223372036854775807, 1e6, 1e-19, "x", "", "auto", [], {}, [1, 2, 3],
            {"a": 1}, True, None, "/dev/zero", "../../../../etc/passwd"]
