@@ -1,5 +1,7 @@
 // Scene reader of rigid_body (elements/RigidBody.hpp): a 3D body in natural coordinates, its
 // rigidity from the PIM's rigidization generator (pim/Rigidization.hpp), its initial twist.
+#include <stdexcept>
+
 #include "elements/RigidBody.hpp"
 #include "pim/Rigidization.hpp"
 #include "scene/KindTable.hpp"
@@ -65,14 +67,22 @@ void readRigidBody(SceneContext& ctx, const YAML::Node& el, const std::string& p
   RigidizeOptions opt;
   opt.inOrder = true;
   opt.linked = [&ctx](int a, int b) { return ctx.linked(a, b); };
-  Rigidization R = rigidize(name, ids, m, ctx.positions(), r.file() + ":" + std::to_string(el.Mark().line + 1) + ": key '" + path + ".nodes'", nullptr, opt);
+  Rigidization R = rigidize(name, ids, m, ctx.positions(), ctx.where(el["nodes"], path + ".nodes"), nullptr, opt);
   if (R.cloudDimension < 3)
     r.fail(el["nodes"], path + ".nodes", "the nodes of rigid body '" + name + "' are coplanar (" +
                                              std::to_string(R.cloudDimension) + "D cloud); a 3D rigid body "
                                              "needs four non-coplanar basic points: add a point off their plane");
   Eigen::Matrix<double, 3, 4> X0;
   for (int k = 0; k < 4; ++k) X0.col(k) = m.nodes[R.basicPoints[k]].position;
-  auto body = std::make_unique<RigidBody>(name, R.basicPoints, X0, mass, com, inertia);
+  // The body's own test of its basic frame (|det E| against its size cubed) is stricter than
+  // the rigidization's distance tolerance for long slivers: its verdict, with the location.
+  std::unique_ptr<RigidBody> body;
+  try {
+    body = std::make_unique<RigidBody>(name, R.basicPoints, X0, mass, com, inertia);
+  } catch (const std::invalid_argument& e) {
+    r.fail(el["nodes"], path + ".nodes", std::string(e.what()) + " (nearly: their frame spans almost no volume); "
+                                             "a 3D rigid body needs four basic points well off each other's plane");
+  }
   ctx.bindAll(name, body->properties());
   m.elements.push_back(std::move(body));
   for (auto& c : R.constraints) m.constraints.push_back(std::move(c));

@@ -144,6 +144,9 @@ CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>
   {
     std::set<std::string> seen;
     for (const CurveRequest& r : requests) {
+      if (r.segments > kMaxSegments)
+        throw InputError(where + ": Physical Curve '" + r.group + "': " + std::to_string(r.segments) +
+                         " segments; expected at most " + std::to_string(kMaxSegments) + " (kMaxSegments)");
       if (r.segments < 1)
         throw InputError(where + ": Physical Curve '" + r.group + "': " +
                          (r.segments == 0 ? std::string("zero segments")
@@ -155,11 +158,20 @@ CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>
     }
   }
   {
+    // Gmsh's parser would block on a FIFO, read /dev/zero for ever, or swallow any size:
+    // only a regular, readable file of sane size reaches it.
     std::error_code ec;
+    const auto st = std::filesystem::status(geoFile, ec);
     std::ifstream in(geoFile);
-    if (!in || std::filesystem::is_directory(geoFile, ec))
+    if (ec || !std::filesystem::exists(st) || !in)
       throw InputError(where + ": cannot open the geometry file '" + geoFile +
                        "' (does it exist and is it readable?)");
+    if (!std::filesystem::is_regular_file(st))
+      throw InputError(where + ": the geometry file '" + geoFile + "' is not a regular file");
+    const auto size = std::filesystem::file_size(geoFile, ec);
+    if (ec || size > kMaxGeometryBytes)
+      throw InputError(where + ": the geometry file '" + geoFile + "' has " + std::to_string(size) +
+                       " bytes; expected at most " + std::to_string(kMaxGeometryBytes) + " (64 MiB)");
   }
 
   std::lock_guard<std::mutex> lock(gmshMutex());

@@ -44,6 +44,12 @@ struct CurveMesh {
   std::map<std::string, Eigen::Vector3d> points;  ///< every named Physical Point [m]
 };
 
+/// Limits on input before Gmsh sees it: segments per requested curve group (a model of
+/// 3 x 10^4 coordinates per curve is already beyond what the dense PIM system handles) and
+/// the size of a geometry file.
+inline constexpr int kMaxSegments = 10000;
+inline constexpr std::uintmax_t kMaxGeometryBytes = 64u << 20;
+
 /// Meshes the requested Physical Curves of `geoFile` and returns one chain per request.
 ///
 /// A group may hold several curves forming one open chain (e.g. an arc longer than 180

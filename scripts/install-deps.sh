@@ -12,6 +12,7 @@ PACKAGES=(
   libcli11-dev                       # command line
   libgtest-dev                       # tests
   python3-matplotlib                 # PNG plots of the results
+  python3-yaml                       # scene fuzzer (scripts/fuzz_scenes.py)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -20,6 +20,7 @@ class EnergyAudit : public Observer {
       : meter_(as, p), next_(next), tolerance_(tolerance) {}
   void frame(const StateWithSens& s) override;
   void progress(double t) override { next_.progress(t); }
+  void reached(const IntegratorStats& st) override { next_.reached(st); }
 
   bool suspect() const;
   /// Plain words: the largest rise, when and against which scale; empty when not suspect.

@@ -16,6 +16,9 @@ struct FrameStore : Observer {
   void progress(double t) override {
     if (forward) forward->progress(t);
   }
+  void reached(const IntegratorStats& st) override {
+    if (forward) forward->reached(st);
+  }
 };
 
 void add(IntegratorStats& a, const IntegratorStats& b) {

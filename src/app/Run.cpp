@@ -1,6 +1,8 @@
 #include "app/Run.hpp"
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,7 +13,10 @@
 #include "integrators/Idas.hpp"
 #include "integrators/InitialState.hpp"
 #include "integrators/Maggi.hpp"
+#include "integrators/TimeGrid.hpp"
+#include "core/Interrupt.hpp"
 #include "output/ResultWriter.hpp"
+#include "output/RunDirectory.hpp"
 
 namespace flexsens {
 
@@ -56,6 +61,15 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     throw InputError(sc.file + ": key 'integrator.dt': the " + s.type +
                      " integrator needs a fixed step dt (give it in the scene or with --dt)");
   if (s.frameInterval > s.tEnd) s.frameInterval = s.tEnd;
+  // The scene's times were checked when read; overrides can break the rule (TimeGrid.hpp).
+  if (const auto pr = checkTimes(s)) {
+    std::string given;
+    for (const auto& [set, name] : {std::pair{opt.tEnd.has_value(), "--t-end"}, {opt.dt.has_value(), "--dt"},
+                                    {opt.integrator.has_value(), "--integrator"}})
+      if (set) given += (given.empty() ? "" : ", ") + std::string(name);
+    throw InputError((given.empty() ? sc.file : "option " + given) + ": key 'integrator." + pr->key + "': " +
+                     pr->message);
+  }
   if (opt.outDir) sc.output.directory = *opt.outDir;
 }
 
@@ -112,15 +126,27 @@ IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSen
 
 namespace {
 
-void writeSummary(const std::string& path, const Scene& sc, const IntegratorStats& st, double wall,
-                  const std::string& status, const std::string& error,
-                  const std::vector<std::string>& files, const PimReport* pim, const std::string& energy,
-                  double velocityChange) {
+/// summary.json, written last: status, the time reached, where the frames landed, and the
+/// statistics up to there, the energy audit. Throws OutputError (shownPath and the OS reason)
+/// if it cannot.
+void writeSummary(const std::string& path, const std::string& shownPath, const Scene& sc,
+                  const IntegratorStats& st, double wall, const std::string& status,
+                  const std::string& error, const ResultWriter& w, const PimReport* pim,
+                  const std::string& energy, double velocityChange) {
   const Model& m = *sc.model;
+  const std::vector<std::string>& files = w.files();
+  errno = 0;
   std::ofstream js(path);
+  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
   js << "{\n";
   js << "  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
+  const auto& ft = w.frameTimes();
+  js << "  \"t_reached\": " << jsonNumber(w.timeReached()) << ",\n";
+  js << "  \"frames\": {\"count\": " << ft.size() << ", \"first_t\": " << jsonNumber(ft.empty() ? 0.0 : ft.front())
+     << ", \"last_t\": " << jsonNumber(ft.empty() ? 0.0 : ft.back()) << ", \"spacing\": "
+     << jsonNumber(frameSpacing(sc.integrator)) << ", \"requested_interval\": " << jsonNumber(sc.integrator.frameInterval)
+     << "},\n";
   js << "  \"scene\": " << jsonString(sc.file) << ",\n";
   if (pim && sc.pimCase) {
     const PimCase& c = *sc.pimCase;
@@ -177,6 +203,8 @@ void writeSummary(const std::string& path, const Scene& sc, const IntegratorStat
   for (size_t i = 0; i < files.size(); ++i)
     js << (i ? ", " : "") << jsonString(std::filesystem::path(files[i]).filename().string());
   js << "]\n}\n";
+  js.close();
+  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
 }
 
 }  // namespace
@@ -197,16 +225,30 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
     std::cerr << "flexsens: note: the given initial velocities violate the constraints; projected onto them, "
                  "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
 
-  std::filesystem::create_directories(outDir);
-  const std::string summary = outDir + "/summary.json";
-  std::filesystem::remove(summary);  // a stale summary must not describe this run
+  // Locked, staged, and moved into place whole at the end: never a mixture with an earlier
+  // run's files, never a half-written directory under the final name.
+  RunDirectory dir(outDir);
   const EnergyMeter meter(as, p);
-  ResultWriter writer(sc, outDir, "", "t", &meter);
+  ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
   EnergyAudit audit(as, p, writer, sc.integrator.energyTolerance);
   RunResult res;
   res.directory = outDir;
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  // Ends the run with `status`: closes the files, writes summary.json last, moves the
+  // directory into place. A write failure on the way becomes an OutputError that also says
+  // how the run itself ended.
+  auto finish = [&](const std::string& status, const std::string& error, const IntegratorStats& st) {
+    try {
+      writer.close();
+      writeSummary(dir.staging() + "/summary.json", dir.final() + "/summary.json", sc, st, elapsed(), status,
+                   error, writer, &pim, audit.json(), dv);
+      dir.commit();
+    } catch (const OutputError& e) {
+      throw OutputError(std::string(e.what()) + (status == "complete" ? "" : " (the run itself " + status + ": " + error + ")") +
+                        "; nothing was moved into " + dir.final());
+    }
   };
   try {
     if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
@@ -215,16 +257,20 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
     } else {
       res.stats = integrate(as, p, start, sc.integrator, audit);
     }
+  } catch (const OutputError& e) {
+    // A result file could not be written: the staging directory goes (RunDirectory's
+    // destructor), earlier results stay as they were.
+    throw OutputError(std::string(e.what()) + "; nothing was moved into " + dir.final());
+  } catch (const Interrupted& e) {
+    finish("interrupted", e.what(), writer.statistics());
+    throw;
   } catch (const std::exception& e) {
-    writer.close();
-    writeSummary(summary, sc, res.stats, elapsed(), "failed", e.what(), writer.files(), &pim, audit.json(), dv);
+    finish("failed", e.what(), writer.statistics());
     throw;
   }
-  writer.close();
   res.wallSeconds = elapsed();
   res.suspect = audit.reason();
-  writeSummary(summary, sc, res.stats, res.wallSeconds, res.suspect.empty() ? "complete" : "suspect", res.suspect,
-               writer.files(), &pim, audit.json(), dv);
+  finish(res.suspect.empty() ? "complete" : "suspect", res.suspect, res.stats);
   return res;
 }
 

@@ -43,7 +43,7 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   std::filesystem::create_directories(outDir);
   const std::string summary = outDir + "/summary.json";
   std::filesystem::remove(summary);
-  ResultWriter writer(sc, outDir, "", "load_factor");
+  ResultWriter writer(sc, outDir, "", "", "load_factor");
   StaticResult res;
   res.directory = outDir;
   StaticSettings set;

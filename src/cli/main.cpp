@@ -1,6 +1,8 @@
 // flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`,
 // `flexsens modes SCENE`. Exit codes: 0 success, 1 bad input (scene or options), 2 numerical
-// failure, 3 other error, 5 run completed but suspect (energy audit).
+// failure, 3 other error, 4 results could not be written, 5 run completed but suspect (energy
+// audit), 6 the output directory is in use by another run, 128 + signal (130 SIGINT, 143
+// SIGTERM) interrupted, results up to the time reached.
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
@@ -11,6 +13,7 @@
 #include "app/Run.hpp"
 #include "app/StaticRun.hpp"
 #include "app/Study.hpp"
+#include "core/Interrupt.hpp"
 #include "core/Types.hpp"
 #include "integrators/InitialState.hpp"
 
@@ -160,6 +163,7 @@ int main(int argc, char** argv) {
     if (!method.empty()) opt.method = method;
     if (run->count("--nd-step")) opt.ndStep = ndStep;
     if (!ndScheme.empty()) opt.ndScheme = ndScheme;
+    installInterruptHandlers();
     Scene base = readScene(scenePath);
     if (cases.empty()) cases = base.caseNames;
     if (cases.empty()) cases.push_back("");
@@ -188,11 +192,24 @@ int main(int argc, char** argv) {
         std::cerr << "flexsens: SUSPECT result (summary.json status 'suspect'): " << r.suspect << "\n";
         status = 5;
       }
+      if (const int sig = interruptSignal()) {  // arrived after the last step: later cases do not start
+        std::cerr << "flexsens: interrupted; " << r.directory << " is complete, later cases were not run\n";
+        return 128 + sig;
+      }
     }
     return status;
   } catch (const InputError& e) {
     std::cerr << "flexsens: error: " << e.what() << "\n";
     return 1;
+  } catch (const Interrupted& e) {
+    std::cerr << "flexsens: " << e.what() << "; results up to it written, summary.json says interrupted\n";
+    return 128 + e.signal;
+  } catch (const OutputError& e) {
+    std::cerr << "flexsens: output error: " << e.what() << "\n";
+    return 4;
+  } catch (const DirectoryBusy& e) {
+    std::cerr << "flexsens: error: " << e.what() << "\n";
+    return 6;
   } catch (const NumericalError& e) {
     std::cerr << "flexsens: numerical failure: " << e.what() << "\n";
     return 2;

@@ -34,4 +34,14 @@ struct NumericalError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A result file or directory could not be written: message names the path and the OS reason.
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Another run holds the output directory's lock.
+struct DirectoryBusy : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace flexsens

@@ -4,6 +4,8 @@
 #include <sstream>
 
 #include "core/SparseLU.hpp"
+#include "integrators/StepEnd.hpp"
+#include "integrators/TimeGrid.hpp"
 
 namespace flexsens {
 
@@ -85,8 +87,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   const double h = set.dt;
   const Scheme sc(set);
   const double sigma = 1.0 / sc.ca;
-  const long nsteps = std::lround((set.tEnd - cur.x.t) / h);
-  const long frameEvery = std::max(1L, std::lround(set.frameInterval / h));
+  const long nsteps = fixedStepCount(set.tEnd - cur.x.t, h);
+  const long every = frameEvery(set);
   const SpMat M = as.mass(p);
   IntegratorStats st;
   SparseAccumulator acc, kv;
@@ -97,7 +99,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   const double t0 = cur.x.t;
   for (long step = 1; step <= nsteps; ++step) {
     const State& old = cur.x;
-    const double t = t0 + step * h;  // not accumulated: frame times stay exact multiples
+    // Not accumulated: frame times stay exact multiples; the last one is t_end itself.
+    const double t = step == nsteps ? set.tEnd : t0 + step * h;
     VecX abar, vbar;
     sc.history(old, abar, vbar);
     // Predictor: Taylor expansion of the previous step for the trapezoidal rule. BDF-1 and
@@ -224,10 +227,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     st.steps++;
     if (m) st.maxConstraintViolation =
         std::max(st.maxConstraintViolation, as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>());
-    obs.progress(t);
-    if (step % frameEvery == 0 || step == nsteps) obs.frame(cur);
+    st.factorizations = lu.factorizations();
+    endStep(obs, cur, st, step % every == 0 || step == nsteps);
   }
-  st.factorizations = lu.factorizations();
   return st;
 }
 

@@ -7,10 +7,14 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <sstream>
+
+#include "integrators/StepEnd.hpp"
+#include "integrators/TimeGrid.hpp"
 
 namespace flexsens {
 
@@ -116,7 +120,9 @@ Eigen::Map<VecX> view(N_Vector v) { return {N_VGetArrayPointer(v), N_VGetLength(
 void check(int flag, const char* fn, const Problem& pb, double t) {
   if (flag >= 0) return;
   std::ostringstream os;
-  os << "IDAS: " << fn << " failed at t = " << t << " s with " << IDAGetReturnFlagName(flag);
+  // IDAGetReturnFlagName returns malloc'ed text: the caller frees it.
+  std::unique_ptr<char, decltype(&std::free)> name(IDAGetReturnFlagName(flag), &std::free);
+  os << "IDAS: " << fn << " failed at t = " << t << " s with " << (name ? name.get() : "an unknown flag");
   if (!pb.failure.empty()) os << " (" << pb.failure << ")";
   else if (!pb.lastError.empty()) os << " (" << pb.lastError << ")";
   if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL || flag == IDA_TOO_MUCH_WORK)
@@ -198,6 +204,9 @@ State unpack(double t, N_Vector y, N_Vector yp, int n, int m) {
 
 }  // namespace
 
+/// Steps IDAS may take between two frames before the run stops as too much work.
+constexpr long kMaxIdasStepsPerFrame = 1000000;
+
 IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWithSens& start,
                               const IntegratorSettings& set, Observer& obs) {
   const int n = as.n(), m = as.m();
@@ -237,7 +246,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   check(IDASetUserData(ida, &pb), "IDASetUserData", pb, t);
   check(IDASetId(ida, id.get()), "IDASetId", pb, t);
   check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg", pb, t);
-  check(IDASetMaxNumSteps(ida, 1000000), "IDASetMaxNumSteps", pb, t);
+  check(IDASetMaxNumSteps(ida, kMaxIdasStepsPerFrame), "IDASetMaxNumSteps", pb, t);
   if (set.dt > 0) check(IDASetMaxStep(ida, set.dt), "IDASetMaxStep", pb, t);
   // IDAS' own first-step estimate makes |h y'| small in the error weights; starting from
   // rest with tight atol that gives h ~ 1e-11 s, where the index-2 iteration matrix
@@ -288,40 +297,73 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   }
 
   IntegratorStats st;
-  obs.frame(start);
-  st.maxConstraintViolation = m ? as.phi(start.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
-  const long nframes = std::lround((set.tEnd - t) / set.frameInterval);
-  for (long f = 1; f <= nframes; ++f) {
-    const double tout = (f == nframes) ? set.tEnd : start.x.t + f * set.frameInterval;
-    check(IDASetStopTime(ida, tout), "IDASetStopTime", pb, t);
-    double tret = t;
-    check(IDASolve(ida, tout, &tret, y.get(), yp.get(), IDA_NORMAL), "IDASolve", pb, t);
-    t = tret;
-    StateWithSens out;
-    out.x = unpack(t, y.get(), yp.get(), n, m);
-    if (!out.x.q.allFinite()) check(IDA_CONV_FAIL, "IDASolve (non-finite state)", pb, t);
-    if (Ns > 0) {
-      check(IDAGetSens(ida, &tret, yS.data()), "IDAGetSens", pb, t);
-      check(IDAGetSensDky(ida, tret, 1, ypS.data()), "IDAGetSensDky", pb, t);
-      for (int k = 0; k < Ns; ++k) out.dp.push_back(unpack(t, yS[k], ypS[k], n, m));
-    }
-    if (m) st.maxConstraintViolation =
-        std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
-    obs.progress(t);
-    obs.frame(out);
-  }
   auto counter = [&](int (*get)(void*, long*), const char* fn) {
     long v = 0;
     check(get(ida, &v), fn, pb, t);
     return v;
   };
-  st.steps = counter(IDAGetNumSteps, "IDAGetNumSteps");
-  st.newtonIterations = counter(IDAGetNumNonlinSolvIters, "IDAGetNumNonlinSolvIters");
-  st.factorizations = counter(IDAGetNumLinSolvSetups, "IDAGetNumLinSolvSetups");
-  st.residualEvaluations = counter(IDAGetNumResEvals, "IDAGetNumResEvals");
-  st.jacobianEvaluations = counter(IDAGetNumJacEvals, "IDAGetNumJacEvals");
-  st.errorTestFailures = counter(IDAGetNumErrTestFails, "IDAGetNumErrTestFails");
-  st.convergenceFailures = counter(IDAGetNumNonlinSolvConvFails, "IDAGetNumNonlinSolvConvFails");
+  auto readCounters = [&] {
+    st.steps = counter(IDAGetNumSteps, "IDAGetNumSteps");
+    st.newtonIterations = counter(IDAGetNumNonlinSolvIters, "IDAGetNumNonlinSolvIters");
+    st.factorizations = counter(IDAGetNumLinSolvSetups, "IDAGetNumLinSolvSetups");
+    st.residualEvaluations = counter(IDAGetNumResEvals, "IDAGetNumResEvals");
+    st.jacobianEvaluations = counter(IDAGetNumJacEvals, "IDAGetNumJacEvals");
+    st.errorTestFailures = counter(IDAGetNumErrTestFails, "IDAGetNumErrTestFails");
+    st.convergenceFailures = counter(IDAGetNumNonlinSolvConvFails, "IDAGetNumNonlinSolvConvFails");
+  };
+  // The state (and sensitivities) IDAS returned at t: in one-step mode y, yp hold it.
+  auto current = [&] {
+    StateWithSens out;
+    out.x = unpack(t, y.get(), yp.get(), n, m);
+    if (!out.x.q.allFinite()) check(IDA_CONV_FAIL, "IDASolve (non-finite state)", pb, t);
+    if (Ns > 0) {
+      double ts = t;
+      check(IDAGetSens(ida, &ts, yS.data()), "IDAGetSens", pb, t);
+      check(IDAGetSensDky(ida, ts, 1, ypS.data()), "IDAGetSensDky", pb, t);
+      for (int k = 0; k < Ns; ++k) out.dp.push_back(unpack(t, yS[k], ypS[k], n, m));
+    }
+    return out;
+  };
+  obs.frame(start);
+  st.maxConstraintViolation = m ? as.phi(start.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
+  const long nframes = outputCount(set.tEnd - t, set.frameInterval);
+  for (long f = 1; f <= nframes; ++f) {
+    const double tout = (f == nframes) ? set.tEnd : start.x.t + f * set.frameInterval;
+    check(IDASetStopTime(ida, tout), "IDASetStopTime", pb, t);
+    // One step per call (the same steps as IDA_NORMAL with this stop time) so that a signal
+    // is seen after the step it arrived in, not only at the next frame. IDAS' own step limit
+    // (IDASetMaxNumSteps) counts per call, so one step per call needs our own.
+    for (long stepsThisFrame = 0;; ++stepsThisFrame) {
+      if (stepsThisFrame >= kMaxIdasStepsPerFrame) {
+        readCounters();
+        obs.reached(st);
+        check(IDA_TOO_MUCH_WORK, "IDASolve", pb, t);
+      }
+      double tret = t;
+      const int flag = IDASolve(ida, tout, &tret, y.get(), yp.get(), IDA_ONE_STEP);
+      if (flag < 0) {  // the failed run's summary reports the work done up to here
+        readCounters();
+        obs.reached(st);
+      }
+      check(flag, "IDASolve", pb, t);
+      t = tret;
+      if (flag == IDA_TSTOP_RETURN || t >= tout) break;
+      if (interruptSignal()) {
+        readCounters();
+        StateWithSens out = current();
+        if (m) st.maxConstraintViolation =
+            std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
+        endStep(obs, out, st, false);  // writes the state reached and throws Interrupted
+      }
+      obs.progress(t);
+    }
+    StateWithSens out = current();
+    if (m) st.maxConstraintViolation =
+        std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
+    readCounters();
+    endStep(obs, out, st, true);
+  }
+  readCounters();
   return st;
 }
 

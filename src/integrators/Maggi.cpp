@@ -6,6 +6,8 @@
 #include <sstream>
 
 #include "integrators/InitialState.hpp"
+#include "integrators/StepEnd.hpp"
+#include "integrators/TimeGrid.hpp"
 
 namespace flexsens {
 
@@ -286,8 +288,8 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
                      "equilibrium equations an explicit scheme cannot solve; use idas, bdf1, "
                      "trapezoidal or generalized_alpha");
   const double t0 = start.x.t;
-  const long nsteps = std::lround((set.tEnd - t0) / h);
-  const long frameEvery = std::max(1L, std::lround(set.frameInterval / h));
+  const long nsteps = fixedStepCount(set.tEnd - t0, h);
+  const long every = frameEvery(set);
   const double maxDrift =
       opt.maxConstraintDrift > 0
           ? opt.maxConstraintDrift
@@ -337,9 +339,9 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
     f.eval(axpy(y, 0.5 * h, k2), t + 0.5 * h, step, stage, k3);
     f.eval(axpy(y, h, k3), t + h, step, stage, k4);
     y = rk4Combine(y, h, k1, k2, k3, k4);
-    const double tn = t0 + step * h;
+    const double tn = step == nsteps ? set.tEnd : t0 + step * h;
     rcond = f.eval(y, tn, step, cur, k1);
-      st.steps++;
+    st.steps++;
     if (m) {
       const double drift = as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>();
       st.maxConstraintViolation = std::max(st.maxConstraintViolation, drift);
@@ -353,8 +355,7 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
         throw NumericalError(os.str());
       }
     }
-    obs.progress(tn);
-    if (step % frameEvery == 0 || step == nsteps) obs.frame(cur);
+    endStep(obs, cur, st, step % every == 0 || step == nsteps);
   }
   return st;
 }

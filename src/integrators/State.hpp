@@ -41,6 +41,9 @@ class Observer {
   virtual void frame(const StateWithSens& s) = 0;
   /// Called once per step with the current time (progress reporting); cheap.
   virtual void progress(double t) { (void)t; }
+  /// Called once per step with the counters so far, so that a failed or interrupted run
+  /// still reports how far it got.
+  virtual void reached(const IntegratorStats& st) { (void)st; }
 };
 
 }  // namespace flexsens

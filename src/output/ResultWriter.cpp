@@ -2,6 +2,7 @@
 
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -9,7 +10,11 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <sys/stat.h>
+
 #include <array>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,13 +54,15 @@ std::string jsonNumber(double v) {
   return os.str();
 }
 
-ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem, const std::string& timeColumn,
-                           const EnergyMeter* energy)
-    : scene_(scene), energy_(energy), dir_(std::move(dir)), stem_(std::move(stem)),
+ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem, std::string shownDir,
+                           const std::string& timeColumn, const EnergyMeter* energy)
+    : scene_(scene), energy_(energy), dir_(std::move(dir)), stem_(std::move(stem)), shownDir_(std::move(shownDir)),
       tEnd_(scene.integrator.tEnd), startWall_(wallSeconds()) {
+  if (shownDir_.empty()) shownDir_ = dir_;
   const std::string csvPath = dir_ + "/" + stem_ + "series.csv";
+  errno = 0;
   csv_.open(csvPath);
-  if (!csv_) throw std::runtime_error("cannot write " + csvPath);
+  if (!csv_) fail(stem_ + "series.csv", errno);
   files_.push_back(csvPath);
   columns_.push_back(timeColumn);
   for (const auto& o : scene_.outputs) columns_.push_back(o.name);
@@ -81,18 +88,27 @@ void ResultWriter::frame(const StateWithSens& s) {
     const Energy e = energy_->at(s.x.q, s.x.v);
     lastRow_.insert(lastRow_.end(), {e.kinetic, e.potential, e.total()});
   }
+  errno = 0;
   for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
   csv_ << "\n";
+  if (!csv_) fail(stem_ + "series.csv", errno);  // the buffer went to a full disk, ...
   times_.push_back(s.x.t);
+  tReached_ = s.x.t;
   if (scene_.output.vtk) {
     std::ostringstream name;
     name << stem_ << "frame_" << std::setw(5) << std::setfill('0') << times_.size() - 1 << ".vtu";
-    writeVtu(s, dir_ + "/" + name.str());
+    writeVtu(s, name.str());
     vtuFiles_.push_back(name.str());
   }
 }
 
-void ResultWriter::writeVtu(const StateWithSens& s, const std::string& path) const {
+void ResultWriter::fail(const std::string& name, int err) const {
+  throw OutputError("cannot write " + shownDir_ + "/" + name + ": " +
+                    (err ? std::strerror(err) : "the stream failed without an OS error"));
+}
+
+void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) const {
+  const std::string path = dir_ + "/" + name;
   const Model& m = *scene_.model;
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
@@ -169,10 +185,24 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& path) con
   w->SetInputData(grid);
   w->SetDataModeToAppended();
   w->EncodeAppendedDataOff();
-  if (w->Write() != 1) throw std::runtime_error("VTK could not write " + path);
+  // VTK reports a failed write in its return value, or only in its error code (a full disk
+  // can leave a truncated file and success): check both, and the file itself.
+  errno = 0;
+  const int ok = w->Write();
+  const int err = errno;
+  const unsigned long code = w->GetErrorCode();
+  struct stat st;
+  if (ok != 1 || code != vtkErrorCode::NoError || ::stat(path.c_str(), &st) != 0 || st.st_size == 0) {
+    if (code == vtkErrorCode::OutOfDiskSpaceError) fail(name, ENOSPC);
+    if (err == 0 && code != vtkErrorCode::NoError)
+      throw OutputError("cannot write " + shownDir_ + "/" + name + ": VTK error code " + std::to_string(code) +
+                        " (vtkErrorCode.h)");
+    fail(name, err);
+  }
 }
 
 void ResultWriter::progress(double t) {
+  tReached_ = t;
   const double now = wallSeconds() - startWall_;
   if (now < 1.0 || now - lastPrint_ < 0.5) return;
   lastPrint_ = now;
@@ -184,15 +214,26 @@ void ResultWriter::progress(double t) {
 
 void ResultWriter::close() {
   if (printed_) std::fprintf(stderr, "\n");
-  csv_.close();
+  printed_ = false;
+  if (csv_.is_open()) {
+    errno = 0;
+    csv_.flush();
+    if (!csv_) fail(stem_ + "series.csv", errno);
+    csv_.close();
+    if (!csv_) fail(stem_ + "series.csv", errno);
+  }
   if (!scene_.output.vtk) return;
   const std::string path = dir_ + "/" + stem_ + "frames.pvd";
+  errno = 0;
   std::ofstream pvd(path);
+  if (!pvd) fail(stem_ + "frames.pvd", errno);
   pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
   pvd << std::setprecision(12);
   for (size_t i = 0; i < vtuFiles_.size(); ++i)
     pvd << "    <DataSet timestep=\"" << times_[i] << "\" part=\"0\" file=\"" << vtuFiles_[i] << "\"/>\n";
   pvd << "  </Collection>\n</VTKFile>\n";
+  pvd.close();
+  if (!pvd) fail(stem_ + "frames.pvd", errno);
   files_.push_back(path);
 }
 

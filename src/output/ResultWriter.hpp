@@ -4,6 +4,7 @@
 #pragma once
 
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,15 +16,22 @@ namespace flexsens {
 
 class ResultWriter : public Observer {
  public:
-  /// dir must exist. stem prefixes the file names (e.g. "" or "R1_").
+  /// dir must exist. stem prefixes the file names (e.g. "" or "R1_"). Error messages name
+  /// the files under shownDir (the final directory when dir is its staging copy).
   /// timeColumn names series.csv's first column ("load_factor" for static runs).
   /// With `energy`, series.csv ends with the columns kinetic_J, potential_J, energy_J.
-  ResultWriter(const Scene& scene, std::string dir, std::string stem, const std::string& timeColumn = "t",
-               const EnergyMeter* energy = nullptr);
+  ResultWriter(const Scene& scene, std::string dir, std::string stem, std::string shownDir = "",
+               const std::string& timeColumn = "t", const EnergyMeter* energy = nullptr);
   void frame(const StateWithSens& s) override;
   void progress(double t) override;
-  /// Writes the .pvd index; call when the run ended (complete or not).
+  void reached(const IntegratorStats& st) override { stats_ = st; }
+  /// Writes the .pvd index and closes the CSV; call when the run ended (complete or not).
+  /// Every write is checked: OutputError names the file and the OS reason.
   void close();
+  /// Time the integration reached [s] and the counters reported with it.
+  double timeReached() const { return tReached_; }
+  const IntegratorStats& statistics() const { return stats_; }
+  const std::vector<double>& frameTimes() const { return times_; }
   const std::vector<std::string>& files() const { return files_; }
   /// Values of the named outputs (and derivatives) at the last frame, for reports.
   const std::vector<double>& lastRow() const { return lastRow_; }
@@ -31,10 +39,13 @@ class ResultWriter : public Observer {
   long frames() const { return static_cast<long>(times_.size()); }
 
  private:
-  void writeVtu(const StateWithSens& s, const std::string& path) const;
+  void writeVtu(const StateWithSens& s, const std::string& name) const;
+  [[noreturn]] void fail(const std::string& name, int err) const;
   const Scene& scene_;
   const EnergyMeter* energy_;
-  std::string dir_, stem_;
+  std::string dir_, stem_, shownDir_;
+  IntegratorStats stats_;
+  double tReached_ = 0.0;
   std::ofstream csv_;
   std::vector<std::string> columns_;
   std::vector<double> lastRow_;

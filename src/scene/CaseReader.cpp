@@ -189,7 +189,7 @@ std::optional<YAML::Node> selectCase(SceneContext& ctx, const YAML::Node& list, 
 
 void applyRigidModels(SceneContext& ctx, const YAML::Node& c, const CaseSelection& sel) {
   for (const auto& b : bodyList(ctx, c, "rigid_model", sel)) {
-    Rigidization R = rigidize(b, ctx.bodies[b].nodes, ctx.m, ctx.positions(), ctx.r.file() + ": case '" + sel.name + "'");
+    Rigidization R = rigidize(b, ctx.bodies[b].nodes, ctx.m, ctx.positions(), ctx.where(c, sel.path) + ": case '" + sel.name + "'");
     for (auto& con : R.constraints) ctx.m.constraints.push_back(std::move(con));
   }
 }
@@ -199,7 +199,9 @@ std::unique_ptr<PimCase> readPimCase(SceneContext& ctx, const YAML::Node& c, con
   const Model& m = ctx.m;
   auto pc = std::make_unique<PimCase>();
   pc->name = sel.name;
-  pc->file = r.file();
+  // The PIM's own errors (SDOF count, deformed bodies, ...) come when it runs, after reading:
+  // they start with this, the case's location "file:line:col: key 'cases[i]'".
+  pc->file = ctx.where(c, sel.path);
   pc->rigidModel = bodyList(ctx, c, "rigid_model", sel);
   pc->rigidized = bodyList(ctx, c, "rigidize", sel);
   for (const auto& p : m.parameters) pc->parameters.push_back(p.name);
@@ -207,7 +209,7 @@ std::unique_ptr<PimCase> readPimCase(SceneContext& ctx, const YAML::Node& c, con
     const std::string& b = pc->rigidized[i];
     if (std::count(pc->rigidModel.begin(), pc->rigidModel.end(), b))
       r.fail(c["rigidize"][i], at(sel.path + ".rigidize", i), "'" + b + "' is already rigid in this case (rigid_model)");
-    Rigidization R = rigidize(b, ctx.bodies[b].nodes, m, ctx.positions(), r.file() + ": case '" + sel.name + "'",
+    Rigidization R = rigidize(b, ctx.bodies[b].nodes, m, ctx.positions(), pc->file + ": case '" + sel.name + "'",
                               ctx.bodies[b].pairLength);
     for (auto& con : R.constraints) pc->lambda.push_back(std::move(con));
   }

@@ -60,6 +60,9 @@ std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::strin
   const YAML::Node sn = r.require(el, "segments", path);
   const int segments = r.integer(sn, path + ".segments");
   if (segments < 1) r.fail(sn, path + ".segments", "expected at least 1 segment, got " + std::to_string(segments));
+  if (segments > kMaxSegments)
+    r.fail(sn, path + ".segments", "expected at most " + std::to_string(kMaxSegments) + " segments (kMaxSegments), got " +
+                                       std::to_string(segments));
   const CurveMesh mesh = meshCurves(geoFile, {{group, segments}}, where(c, path + ".curve"));
   std::vector<int> ids;
   const NodeChain& ch = mesh.chains.at(0);

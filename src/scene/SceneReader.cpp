@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/ModelChecks.hpp"
 #include "meshes/GmshCurves.hpp"
 #include "scene/KindTable.hpp"
 #include "scene/SceneParts.hpp"
@@ -42,6 +43,10 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
     if (ctx.hasNode(node.name)) r.fail(nd["name"], path + ".name", "duplicate node name '" + node.name + "'");
     node.position = r.vector(r.require(nd, "position", path), path + ".position", dim);
     node.velocity = nd["velocity"] ? r.vector(nd["velocity"], path + ".velocity", dim) : VecX::Zero(dim);
+    if (!(node.position.lpNorm<Eigen::Infinity>() <= kMaxCoordinate))
+      r.fail(nd["position"], path + ".position", "expected coordinates within +-1e6 m (kMaxCoordinate)");
+    if (!(node.velocity.lpNorm<Eigen::Infinity>() <= kMaxVelocity))
+      r.fail(nd["velocity"], path + ".velocity", "expected velocity components within +-1e6 m/s (kMaxVelocity)");
     node.ground = nd["ground"] ? r.boolean(nd["ground"], path + ".ground") : false;
     if (node.ground && node.velocity.norm() > 0)
       r.fail(nd["velocity"], path + ".velocity", "a ground node cannot have a velocity");
@@ -133,6 +138,20 @@ void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelecti
       if (!seen.count(name)) r.fail(node, sel->paramsPath, "no parameter named '" + name + "' under parameters");
 }
 
+/// A free node nothing acts on has no mass and no equation: `check` must not call valid what
+/// every integrator can only fail on (ModelChecks.hpp says which massless nodes pass).
+void requireMass(const SceneContext& ctx, const YAML::Node& root) {
+  for (int id : nodesActedOnByNothing(ctx.m)) {
+    const std::string& name = ctx.m.nodes[id].name;
+    const std::string what = "free node '" + name + "' belongs to no element or constraint: it has no mass "
+                             "and no equation; connect it to a massive element, make it ground, or remove it";
+    const YAML::Node list = root["nodes"];
+    for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i)
+      if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
+    ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);  // a Gmsh node
+  }
+}
+
 Scene build(const std::string& file, const YAML::Node& root, const std::string& caseName) {
   Scene sc;
   sc.file = file;
@@ -178,6 +197,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (root["outputs"]) readOutputs(ctx, root["outputs"], sc);
   readOutputSettings(r, root["output"], sc);
   if (m.n == 0) r.fail(root["nodes"], "nodes", "the scene has no free node: nothing can move");
+  requireMass(ctx, root);
   return sc;
 }
 

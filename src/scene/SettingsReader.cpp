@@ -1,6 +1,7 @@
 // What to run and what to write: the `integrator`, `outputs` and `output` keys of a scene.
 #include <filesystem>
 
+#include "integrators/TimeGrid.hpp"
 #include "scene/SceneParts.hpp"
 
 namespace flexsens {
@@ -32,7 +33,8 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
   if (in["newton_tol"]) s.newtonTol = r.positive(in["newton_tol"], "integrator.newton_tol");
   if (in["max_newton_iterations"]) {
     s.maxNewtonIterations = r.integer(in["max_newton_iterations"], "integrator.max_newton_iterations");
-    if (s.maxNewtonIterations < 1) r.fail(in["max_newton_iterations"], "integrator.max_newton_iterations", "expected at least 1");
+    if (s.maxNewtonIterations < 1 || s.maxNewtonIterations > 1000)  // beyond 1000 it only hides a divergence
+      r.fail(in["max_newton_iterations"], "integrator.max_newton_iterations", "expected 1 ... 1000");
   }
   s.frameInterval = in["frame_interval"] ? r.positive(in["frame_interval"], "integrator.frame_interval")
                                          : std::max(s.dt, s.tEnd / 200.0);
@@ -43,6 +45,8 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
   if (in["energy_tolerance"]) s.energyTolerance = r.nonNegative(in["energy_tolerance"], "integrator.energy_tolerance");
   if (in["sensitivity_error_control"])
     s.sensitivityErrorControl = r.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
+  if (const auto pr = checkTimes(s))  // t_end, dt, frame_interval against each other
+    r.fail(in[pr->key] ? in[pr->key] : in, "integrator." + pr->key, pr->message);
 }
 
 void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc) {

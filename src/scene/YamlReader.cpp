@@ -29,7 +29,10 @@ void YamlReader::allowKeys(const YAML::Node& map, const std::string& path,
   const std::set<std::string> allowed(keys.begin(), keys.end());
   std::set<std::string> seen;
   for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
+    // A list or mapping as a key (`[a, b]: 1`, `? {x: 1}`) is legal YAML but no key of ours.
+    if (!kv.first.IsScalar())
+      fail(kv.first, path, std::string("a key must be a plain name, got a ") + (kv.first.IsMap() ? "mapping" : "list"));
+    const std::string k = kv.first.Scalar();
     if (!seen.insert(k).second)
       fail(kv.first, path.empty() ? k : path + "." + k, "repeated key; give each key once");
     if (allowed.count(k)) continue;

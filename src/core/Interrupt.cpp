@@ -1,0 +1,33 @@
+#include "core/Interrupt.hpp"
+
+#include <csignal>
+#include <cstring>
+
+namespace flexsens {
+
+namespace {
+volatile std::sig_atomic_t gSignal = 0;
+extern "C" void onSignal(int sig) { gSignal = sig; }
+}  // namespace
+
+void installInterruptHandlers() {
+  struct sigaction sa;
+  std::memset(&sa, 0, sizeof sa);
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  // SA_RESTART: writes in progress finish instead of failing with EINTR.
+  sa.sa_flags = SA_RESETHAND | SA_RESTART;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+int interruptSignal() { return gSignal; }
+void clearInterrupt() { gSignal = 0; }
+void requestInterrupt(int signal) { gSignal = signal; }
+
+Interrupted::Interrupted(int sig, double time)
+    : std::runtime_error(std::string("interrupted by ") + (sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal") +
+                         " at t = " + std::to_string(time) + " s"),
+      signal(sig), t(time) {}
+
+}  // namespace flexsens

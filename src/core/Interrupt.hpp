@@ -1,0 +1,26 @@
+// SIGINT/SIGTERM as a request to stop: the handler only records the signal; integrators
+// look at it at the end of each step and stop there, so what was computed is written out.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace flexsens {
+
+/// Installs the handlers (SA_RESETHAND: a second Ctrl-C kills at once, as users expect).
+void installInterruptHandlers();
+/// The signal received (SIGINT, SIGTERM), 0 when none.
+int interruptSignal();
+/// Forgets a received signal (tests).
+void clearInterrupt();
+/// Raises the flag as the handler would (tests).
+void requestInterrupt(int signal);
+
+/// Thrown by an integrator that stopped on a signal after its last frame at time t.
+struct Interrupted : std::runtime_error {
+  Interrupted(int sig, double time);
+  int signal;
+  double t;  ///< [s] time reached, the last frame written
+};
+
+}  // namespace flexsens
