@@ -11,7 +11,7 @@
 // Massless directions (N^T M N singular: massless parts, see `inertia: none`) are condensed
 // statically (their rows are equilibrium equations); a massless direction without stiffness
 // is an error naming the coordinates involved. Dense: for models up to a few thousand
-// coordinates (the satellite, n = 735, takes about a second).
+// coordinates (the satellite: n = 495, tangent space 390, under a second of CPU).
 #pragma once
 
 #include <string>

@@ -77,13 +77,28 @@ VecX solveAugmented(const Assembler& as, const VecX& q, const VecX& p, double t,
 }  // namespace
 
 std::vector<int> masslessCoordinates(const Assembler& as, const VecX& p) {
+  // Only nodes of declared-massless parts (an element whose mass matrix is there but zero:
+  // beam `inertia: none`). Other zero rows of M (a rigid body's attached points) are fixed by
+  // constraints and keep their usual treatment.
+  std::vector<char> ofMasslessPart(as.n(), 0);
+  bool any = false;
+  MatX Me;
+  const VecX q0 = as.model().initialPositions();
+  for (size_t e = 0; e < as.model().elements.size(); ++e) {
+    const Element& el = *as.model().elements[e];
+    if (!el.mass(as.localState(el.nodes(), q0, VecX(), p), Me) || !Me.isZero(0.0)) continue;
+    any = true;
+    for (int i : as.elementDofs(e))
+      if (i >= 0) ofMasslessPart[i] = 1;
+  }
+  if (!any) return {};
   const SpMat M = as.mass(p);
   VecX rowAbs = VecX::Zero(as.n());
   for (int c = 0; c < M.outerSize(); ++c)
     for (SpMat::InnerIterator it(M, c); it; ++it) rowAbs[it.row()] += std::abs(it.value());
   std::vector<int> r;
   for (int i = 0; i < as.n(); ++i)
-    if (rowAbs[i] == 0.0) r.push_back(i);
+    if (rowAbs[i] == 0.0 && ofMasslessPart[i]) r.push_back(i);
   return r;
 }
 
@@ -116,7 +131,8 @@ struct MasslessBlock {
     J = MatX::Zero(a + b, a + b);
     for (int i = 0; i < a; ++i)
       for (int j = 0; j < a; ++j) J(i, j) = K(mc[i], mc[j]);
-    kappa = std::max(J.topLeftCorner(a, a).cwiseAbs().maxCoeff(), 1e-300);
+    const double kMax = a ? J.topLeftCorner(a, a).cwiseAbs().maxCoeff() : 0.0;
+    kappa = kMax > 0.0 ? kMax : 1.0;
     for (int i = 0; i < a; ++i)
       for (int j = 0; j < b; ++j) J(i, a + j) = J(a + j, i) = kappa * Jq(cr[j], mc[i]);
   }
@@ -132,12 +148,21 @@ struct MasslessBlock {
     for (int i : mc) x[i] = 0.0;
     return x;
   }
-  /// Solves J z = rhs; a singular J is a massless direction without stiffness, named.
+  /// Solves J z = rhs. A null vector of J with a part in q_m is a massless direction without
+  /// stiffness (named); one in the multipliers only (more constraint rows than the massless
+  /// coordinates need, e.g. a spring's end on a rigid body's attached point) leaves those
+  /// multipliers to the acceleration solve: least-norm solution.
   VecX solve(const Assembler& as, const VecX& rhs) const {
     Eigen::FullPivLU<MatX> lu(J);
     lu.setThreshold(1e-10);
-    if (!lu.isInvertible()) {
-      const VecX z = lu.kernel().col(0);
+    if (lu.isInvertible()) return lu.solve(rhs);
+    const MatX ker = lu.kernel();
+    const int a = static_cast<int>(mc.size());
+    int worst = 0;
+    for (int c = 1; c < ker.cols(); ++c)
+      if (ker.col(c).head(a).norm() > ker.col(worst).head(a).norm()) worst = c;
+    if (ker.col(worst).head(a).norm() > 1e-8 * ker.col(worst).norm()) {
+      const VecX z = ker.col(worst);
       std::vector<int> idx;
       for (size_t i = 0; i < mc.size(); ++i) idx.push_back(static_cast<int>(i));
       std::sort(idx.begin(), idx.end(), [&](int x, int y) { return std::abs(z[x]) > std::abs(z[y]); });
@@ -148,7 +173,7 @@ struct MasslessBlock {
                            " carry no mass (inertia: none) and nothing restrains them in that direction; "
                            "give them mass, stiffness (e.g. a bending stiffness) or a constraint");
     }
-    return lu.solve(rhs);
+    return J.completeOrthogonalDecomposition().solve(rhs);
   }
 };
 
