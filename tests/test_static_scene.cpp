@@ -186,6 +186,13 @@ TEST(StaticCommand, WritesLoadStepsAndSensitivitiesAndRefusesWrongUse) {
   std::stringstream all;
   all << js.rdbuf();
   EXPECT_NE(all.str().find("\"status\": \"complete\""), std::string::npos);
+  // Staged like a run: a rerun replaces the directory whole and leaves no staging copy.
+  { std::ofstream(dir / "out" / "stale.txt") << "from an earlier run"; }
+  ASSERT_EQ(std::system((exe + " static " + scene + " --out " + (dir / "out").string() + " > /dev/null 2>&1").c_str()), 0);
+  EXPECT_FALSE(fs::exists(dir / "out" / "stale.txt"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "summary.json"));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".out.staging"), std::string::npos) << e.path();
   EXPECT_NE(std::system((exe + " run " + scene + " --out " + (dir / "run").string() + " 2> " + (dir / "err").string()).c_str()), 0);
   std::ifstream err(dir / "err");
   std::stringstream es;

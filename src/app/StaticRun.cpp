@@ -4,16 +4,22 @@
 #include <filesystem>
 #include <fstream>
 
+#include <cerrno>
+#include <cstring>
+
 #include "integrators/Static.hpp"
+#include "output/RunDirectory.hpp"
 #include "output/ResultWriter.hpp"
 
 namespace flexsens {
 
 namespace {
 
-void writeStaticSummary(const std::string& path, const Scene& sc, const StaticResult& r, const std::string& status,
-                        const std::string& error, const ResultWriter& w) {
+void writeStaticSummary(const std::string& path, const std::string& shownPath, const Scene& sc,
+                        const StaticResult& r, const std::string& status, const std::string& error,
+                        const ResultWriter& w) {
   const Model& m = *sc.model;
+  errno = 0;
   std::ofstream js(path);
   js << "{\n  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
@@ -31,6 +37,8 @@ void writeStaticSummary(const std::string& path, const Scene& sc, const StaticRe
   for (size_t i = 0; i < w.files().size(); ++i)
     js << (i ? ", " : "") << jsonString(std::filesystem::path(w.files()[i]).filename().string());
   js << "]\n}\n";
+  js.close();
+  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
 }
 
 }  // namespace
@@ -40,12 +48,16 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   const Model& m = *sc.model;
   Assembler as(m, sc.sensitivity.method == "ad" ? Derivatives::AutomaticDifferentiation : Derivatives::Analytic);
   const VecX p = m.nominalParameters();
-  std::filesystem::create_directories(outDir);
-  const std::string summary = outDir + "/summary.json";
-  std::filesystem::remove(summary);
-  ResultWriter writer(sc, outDir, "", "", "load_factor");
   StaticResult res;
   res.directory = outDir;
+  // Locked, staged and moved into place whole, like `run` (output/RunDirectory.hpp).
+  RunDirectory dir(outDir);
+  ResultWriter writer(sc, dir.staging(), "", dir.final(), "load_factor");
+  auto finish = [&](const std::string& status, const std::string& error) {
+    writer.close();
+    writeStaticSummary(dir.staging() + "/summary.json", dir.final() + "/summary.json", sc, res, status, error, writer);
+    dir.commit();
+  };
   StaticSettings set;
   set.steps = loadSteps;
   set.stepLoadFactor = true;
@@ -70,19 +82,19 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   StaticReport rep;
   try {
     solveStatic(as, p, m.initialPositions(), set, &rep);
+  } catch (const OutputError&) {
+    throw;  // the staging directory goes; earlier results stay as they were
   } catch (const std::exception& e) {
-    writer.close();
     res.loadSteps = static_cast<int>(writer.frames());
-    writeStaticSummary(summary, sc, res, "failed", e.what(), writer);
+    finish("failed", e.what());
     throw;
   }
-  writer.close();
   res.loadSteps = rep.steps;
   res.newtonIterations = rep.iterations;
   res.residualNorm = rep.residualNorm;
   res.constraintNorm = rep.constraintNorm;
   res.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  writeStaticSummary(summary, sc, res, "complete", "", writer);
+  finish("complete", "");
   return res;
 }
 

@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   int loadSteps = 0;
   auto* statik = app.add_subcommand("static", "load-stepped static equilibrium with exact static sensitivities (series.csv per load step, VTK, summary.json)");
   statik->add_option("scene", staticPath, "scene file (YAML)")->required();
-  statik->add_option("--out", staticOut, "output directory (default: <output.directory>/static)");
+  statik->add_option("--out", staticOut, "output directory (default: <output.directory>-static)");
   statik->add_option("--load-steps", loadSteps, "equal load increments (default: the scene's static.load_steps, else 10)");
   statik->add_option("--method", staticMethod, "sensitivities: dd (analytic, default) | ad");
 
@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
           throw InputError("option --method: static sensitivities are dd or ad, got '" + staticMethod + "'");
         sc.sensitivity.method = staticMethod;
       }
-      const std::string dir = staticOut.empty() ? sc.output.directory + "/static" : staticOut;
+      // Beside the run's directory, not inside it: a rerun replaces its directory whole.
+      const std::string dir = staticOut.empty() ? sc.output.directory + "-static" : staticOut;
       const StaticResult r = runStaticScene(sc, dir, sc.statics.loadSteps);
       std::cout << "static equilibrium written to " << r.directory << "/ (series.csv, "
                 << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
