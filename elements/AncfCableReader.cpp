@@ -18,17 +18,11 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
   auto nodeKey = [&](size_t j) { return el["nodes"] ? el["nodes"][j] : el["curve"]; };
   auto nodePath = [&](size_t j) { return el["nodes"] ? at(path + ".nodes", j) : path + ".curve"; };
-  // rest_shape: initial (default: the initial positions and slopes) or straight (along the
-  // first axis with the initial element lengths, slopes along it: no rest curvature).
-  bool straightRest = false;
-  if (el["rest_shape"]) {
-    const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
-    if (rs == "straight") straightRest = true;
-    else if (rs != "initial")
-      r.fail(el["rest_shape"], path + ".rest_shape",
-             "expected initial (the rest shape is the initial positions and slopes) or straight "
-             "(element lengths from the initial positions, no rest curvature); got '" + rs + "'");
-  }
+  // straight: along the first axis with the initial element lengths, slopes along it.
+  const bool straightRest =
+      readStraightRest(r, el, path,
+                       "initial (the rest shape is the initial positions and slopes) or straight "
+                       "(element lengths from the initial positions, no rest curvature)");
   std::vector<VecX> dir(ids.size() - 1);  // unit chord directions
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     const VecX e = m.nodes[ids[j + 1]].position - m.nodes[ids[j]].position;

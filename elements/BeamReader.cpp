@@ -43,6 +43,14 @@ std::shared_ptr<BeamSection> readBeamSection(const YamlReader& r, const YAML::No
   return sec;
 }
 
+bool readStraightRest(const YamlReader& r, const YAML::Node& el, const std::string& path, const std::string& meaning) {
+  if (!el["rest_shape"]) return false;
+  const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
+  if (rs != "straight" && rs != "initial")
+    r.fail(el["rest_shape"], path + ".rest_shape", "expected " + meaning + "; got '" + rs + "'");
+  return rs == "straight";
+}
+
 namespace {
 
 /// clamp: start | end | both. The end node is a ground node and the beam's tangent there is
@@ -90,17 +98,10 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
   Model& m = ctx.m;
   r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "density", "inertia", "section", "rest_shape", "clamp"});
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
-  // rest_shape: initial (default; rest = initial positions) or straight (rest segment lengths
-  // = initial ones, zero rest curvature).
-  bool straightRest = false;
-  if (el["rest_shape"]) {
-    const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
-    if (rs == "straight") straightRest = true;
-    else if (rs != "initial")
-      r.fail(el["rest_shape"], path + ".rest_shape",
-             "expected initial (the rest shape is the initial positions) or straight (rest "
-             "segment lengths from the initial positions, zero rest curvature); got '" + rs + "'");
-  }
+  const bool straightRest =
+      readStraightRest(r, el, path,
+                       "initial (the rest shape is the initial positions) or straight (rest "
+                       "segment lengths from the initial positions, zero rest curvature)");
   auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
   ctx.bodies[name] = {ids, nullptr};

@@ -14,4 +14,8 @@ namespace flexsens {
 /// bindable as a parameter.
 std::shared_ptr<BeamSection> readBeamSection(const YamlReader& r, const YAML::Node& el, const std::string& path);
 
+/// `el.rest_shape`: initial (default) or straight; true for straight. `meaning` says in the
+/// error what the two choices mean for this kind.
+bool readStraightRest(const YamlReader& r, const YAML::Node& el, const std::string& path, const std::string& meaning);
+
 }  // namespace flexsens

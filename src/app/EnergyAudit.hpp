@@ -16,8 +16,9 @@ namespace flexsens {
 
 class EnergyAudit : public Observer {
  public:
-  EnergyAudit(const Assembler& as, const VecX& p, Observer& next, double tolerance)
-      : meter_(as, p), next_(next), tolerance_(tolerance) {}
+  /// `meter` is the run's (the writer's energy columns use the same one).
+  EnergyAudit(const EnergyMeter& meter, Observer& next, double tolerance)
+      : meter_(meter), next_(next), tolerance_(tolerance) {}
   void frame(const StateWithSens& s) override;
   void progress(double t) override { next_.progress(t); }
   void reached(const IntegratorStats& st) override { next_.reached(st); }
@@ -30,7 +31,7 @@ class EnergyAudit : public Observer {
 
  private:
   double scale() const;
-  EnergyMeter meter_;
+  const EnergyMeter& meter_;
   Observer& next_;
   double tolerance_;
   bool started_ = false;

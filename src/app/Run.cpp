@@ -230,7 +230,7 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   RunDirectory dir(outDir);
   const EnergyMeter meter(as, p);
   ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
-  EnergyAudit audit(as, p, writer, sc.integrator.energyTolerance);
+  EnergyAudit audit(meter, writer, sc.integrator.energyTolerance);
   RunResult res;
   res.directory = outDir;
   auto elapsed = [&] {
