@@ -135,7 +135,8 @@ TEST(EnergyAudit, PendulumRunIsCompleteWithEnergyColumns) {
 // The N-four-bar through its singular (collinear) configurations, 10 s: the trapezoidal rule
 // at dt 1e-3 switches branch and gains energy by orders of magnitude (|Phi| stays ~1e-15):
 // it must end `suspect` with exit code 5, never `complete`. Generalized-alpha (rho_inf 0.8)
-// passes the singular configurations: complete, energy kept to 1e-6 relative.
+// passes the singular configurations: complete, energy kept to 1e-6 relative; maggi_rk4 is
+// suspect by its sensitivities (app/RunHealth).
 TEST(EnergyAudit, NFourBarTrapezoidalIsSuspectGeneralizedAlphaIsComplete) {
   const fs::path dir = fs::temp_directory_path() / ("flexsens_nfourbar_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -154,5 +155,13 @@ TEST(EnergyAudit, NFourBarTrapezoidalIsSuspectGeneralizedAlphaIsComplete) {
   while (std::getline(csv, line)) last = line;
   const double e0 = std::stod(first.substr(first.rfind(',') + 1)), e1 = std::stod(last.substr(last.rfind(',') + 1));
   EXPECT_NEAR(e1, e0, 1e-6 * e0);
+  // maggi_rk4 at dt 1e-3 keeps the energy (to 0.5%) but leaves the branch at a singular
+  // passage: positions 0.18 m off generalized-alpha's at 10 s. Its sensitivity dx/dm0 grows to
+  // ~1e6 m/kg where generalized-alpha's stays below 0.4: the run health calls that a blow-up.
+  EXPECT_EQ(runCli("run " + scene + " --integrator maggi_rk4 --out " + (dir / "maggi").string()), 5);
+  const std::string maggi = slurp(dir / "maggi" / "summary.json");
+  EXPECT_NE(maggi.find("\"status\": \"suspect\""), std::string::npos) << maggi.substr(0, 400);
+  EXPECT_NE(maggi.find("sensitivity blow-up"), std::string::npos) << maggi.substr(0, 600);
+  EXPECT_EQ(ga.find("sensitivity blow-up"), std::string::npos);
   fs::remove_all(dir);
 }

@@ -7,12 +7,15 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "app/StaticRun.hpp"
+#include "core/Interrupt.hpp"
 #include "integrators/Static.hpp"
 #include "scene/Scene.hpp"
 
@@ -208,5 +211,33 @@ TEST(StaticCommand, WritesLoadStepsAndSensitivitiesAndRefusesWrongUse) {
   es2 << err2.rdbuf();
   EXPECT_NE(es2.str().find("key 'cases': no case named 'R9'"), std::string::npos) << es2.str();
   EXPECT_FALSE(fs::exists(dir / "case"));
+  fs::remove_all(dir);
+}
+
+// SIGINT during `flexsens static`: it stops after the converged load step, writes that step
+// and a summary that says interrupted (not complete), and moves the directory into place.
+TEST(StaticCommand, InterruptStopsAfterTheLoadStepWithAnInterruptedSummary) {
+  const fs::path dir = fs::temp_directory_path() / ("flexsens_static_int_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const Scene sc = readSceneText(cantileverScene(8, EI() / (kL * kL)), "cantilever.yaml");
+  requestInterrupt(SIGINT);
+  try {
+    runStaticScene(sc, dir.string(), 10);
+    ADD_FAILURE() << "static ignored the interrupt";
+  } catch (const Interrupted& e) {
+    EXPECT_EQ(e.signal, SIGINT);
+    EXPECT_DOUBLE_EQ(e.t, 0.1);  // the first of 10 load steps
+  }
+  clearInterrupt();
+  std::ifstream csv(dir / "series.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 1);
+  std::stringstream all;
+  all << std::ifstream(dir / "summary.json").rdbuf();
+  EXPECT_NE(all.str().find("\"status\": \"interrupted\""), std::string::npos) << all.str();
+  EXPECT_EQ(all.str().find("\"complete\""), std::string::npos);
   fs::remove_all(dir);
 }

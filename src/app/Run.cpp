@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "app/EnergyAudit.hpp"
+#include "app/RunHealth.hpp"
 #include "app/FiniteDifferences.hpp"
 #include "integrators/FixedStep.hpp"
 #include "integrators/Idas.hpp"
@@ -132,7 +133,7 @@ namespace {
 void writeSummary(const std::string& path, const std::string& shownPath, const Scene& sc,
                   const IntegratorStats& st, double wall, const std::string& status,
                   const std::string& error, const ResultWriter& w, const PimReport* pim,
-                  const std::string& energy, double velocityChange) {
+                  const std::string& energy, const std::string& health, double velocityChange) {
   const Model& m = *sc.model;
   const std::vector<std::string>& files = w.files();
   errno = 0;
@@ -197,6 +198,7 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
      << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
   js << "  \"energy\": " << energy << ",\n";
+  js << "  \"health\": " << health << ",\n";
   js << "  \"initial_velocity_change\": " << jsonNumber(velocityChange) << ",\n";
   js << "  \"wall_time_s\": " << jsonNumber(wall) << ",\n";
   js << "  \"files\": [";
@@ -231,6 +233,7 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   const EnergyMeter meter(as, p);
   ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
   EnergyAudit audit(meter, writer, sc.integrator.energyTolerance);
+  RunHealth health(as, p, audit);
   RunResult res;
   res.directory = outDir;
   auto elapsed = [&] {
@@ -243,7 +246,7 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
     try {
       writer.close();
       writeSummary(dir.staging() + "/summary.json", dir.final() + "/summary.json", sc, st, elapsed(), status,
-                   error, writer, &pim, audit.json(), dv);
+                   error, writer, &pim, audit.json(), health.json(), dv);
       dir.commit();
     } catch (const OutputError& e) {
       throw OutputError(std::string(e.what()) + (status == "complete" ? "" : " (the run itself " + status + ": " + error + ")") +
@@ -253,9 +256,9 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   try {
     if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
       NdSettings nd{sc.sensitivity.ndScheme, sc.sensitivity.ndStep};
-      res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, audit);
+      res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, health);
     } else {
-      res.stats = integrate(as, p, start, sc.integrator, audit);
+      res.stats = integrate(as, p, start, sc.integrator, health);
     }
   } catch (const OutputError& e) {
     // A result file could not be written: the staging directory goes (RunDirectory's
@@ -270,6 +273,8 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   }
   res.wallSeconds = elapsed();
   res.suspect = audit.reason();
+  const std::string broken = health.reason();
+  if (!broken.empty()) res.suspect += (res.suspect.empty() ? "" : "; ") + broken;
   finish(res.suspect.empty() ? "complete" : "suspect", res.suspect, res.stats);
   return res;
 }

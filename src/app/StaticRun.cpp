@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "core/Interrupt.hpp"
 #include "integrators/Static.hpp"
 #include "output/RunDirectory.hpp"
 #include "output/ResultWriter.hpp"
@@ -78,12 +79,19 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
       s.dp.push_back(dk);
     }
     writer.frame(s);
+    // SIGINT/SIGTERM: stop after this converged load step, as `run` stops after a step.
+    if (const int sig = interruptSignal()) throw Interrupted(sig, lf);
   };
   StaticReport rep;
   try {
     solveStatic(as, p, m.initialPositions(), set, &rep);
   } catch (const OutputError&) {
     throw;  // the staging directory goes; earlier results stay as they were
+  } catch (const Interrupted& e) {
+    res.loadSteps = static_cast<int>(writer.frames());
+    finish("interrupted", "interrupted by signal " + std::to_string(e.signal) + " after load factor " +
+                              std::to_string(e.t) + " (the last row and frame)");
+    throw;
   } catch (const std::exception& e) {
     res.loadSteps = static_cast<int>(writer.frames());
     finish("failed", e.what());

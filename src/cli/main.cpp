@@ -9,11 +9,11 @@
 #include <iostream>
 
 #include "app/Modes.hpp"
-#include "app/Redundancy.hpp"
 #include "app/Run.hpp"
 #include "app/StaticRun.hpp"
 #include "app/Study.hpp"
 #include "core/Interrupt.hpp"
+#include "core/RedundantRows.hpp"
 #include "core/Types.hpp"
 #include "integrators/InitialState.hpp"
 
@@ -98,7 +98,15 @@ int main(int argc, char** argv) {
       }
       // Beside the run's directory, not inside it: a rerun replaces its directory whole.
       const std::string dir = staticOut.empty() ? sc.output.directory + "-static" : staticOut;
-      const StaticResult r = runStaticScene(sc, dir, sc.statics.loadSteps);
+      installInterruptHandlers();
+      StaticResult r;
+      try {
+        r = runStaticScene(sc, dir, sc.statics.loadSteps);
+      } catch (const Interrupted& e) {
+        std::cerr << "flexsens: interrupted after load factor " << e.t << "; the converged load steps are in " << dir
+                  << "/, summary.json says interrupted\n";
+        return 128 + e.signal;
+      }
       std::cout << "static equilibrium written to " << r.directory << "/ (series.csv, "
                 << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
                 << "  " << r.loadSteps << " load steps, " << r.newtonIterations << " Newton iterations, |R|_inf = "
@@ -111,6 +119,11 @@ int main(int argc, char** argv) {
       Scene sc = readScene(modesPath);
       Assembler as(*sc.model);
       const VecX p = sc.model->nominalParameters();
+      if (!sc.model->redundantRows.empty()) {  // left out by the reader; the modes are those of the rest
+        std::cerr << "flexsens: note: constraint rows dependent on the others at the initial positions, left out:";
+        for (const auto& l : sc.model->redundantRows) std::cerr << " " << l;
+        std::cerr << "\n";
+      }
       requireIndependentConstraints(as, projectPositions(as, sc.model->initialPositions(), p), p);
       const ModalAnalysis a = analyzeModes(as, consistentState(as, p), p, modesCount);
       std::cout << (modesAsJson ? modesJson(a, modesCount) : modesPath + ": " + modesReport(a, modesCount));
@@ -126,19 +139,21 @@ int main(int argc, char** argv) {
                 << " constraints, " << m.parameters.size() << " parameters, "
                 << sc.outputs.size() << " outputs\n";
       {
-        const Assembler as(m);
-        const RedundancyReport red = constraintRedundancy(as, m.initialPositions(), m.nominalParameters());
+        // The reader left dependent rows out already (core/RedundantRows.hpp); confirm the rest.
+        const DependentRows red = dependentRows(m, m.initialPositions(), m.nominalParameters());
         if (!red.checked)
-          std::cout << "  redundancy of the constraints not checked (n * m above " << kMaxRedundancyEntries << ")\n";
-        else if (red.dependent.empty())
-          std::cout << "  constraints independent at the initial positions (rank Phi_q = " << red.rank << ")\n";
+          std::cout << "  redundancy of the constraints not checked (n m^2 above " << kMaxRedundancyWork << ")\n";
+        else if (!red.rows.empty())  // cannot happen after leaveOutRedundantRows; say so if it does
+          std::cout << "  constraints still dependent after the elimination: rank " << red.rank << " of " << m.m << "\n";
+        else if (m.redundantRows.empty())
+          std::cout << "  constraints independent at the initial positions (rank Phi_q = " << m.m << ")\n";
         else {
-          std::cout << "  REDUNDANT constraints: rank Phi_q = " << red.rank << " of " << red.rows
-                    << " rows, so the mechanism has " << m.n - red.rank << " degrees of freedom, not "
-                    << m.n - m.m << ". Dependent rows (remove them, or replace joints by ones that "
-                       "constrain less, e.g. a spherical for a revolute in a planar loop):";
-          for (const auto& l : red.dependent) std::cout << " " << l;
-          std::cout << "\n  `run` stops at t = 0 on such a model: its Newton matrix is singular.\n";
+          std::cout << "  REDUNDANT constraints: rank Phi_q = " << m.m << " of " << m.m + m.redundantRows.size()
+                    << " rows, so the mechanism has " << m.n - m.m << " degrees of freedom. Dependent rows, left out "
+                       "of the dynamics (run checks that they stay satisfied; remove them from the scene, or "
+                       "replace joints by ones that constrain less, e.g. a spherical for a revolute in a planar loop):";
+          for (const auto& l : m.redundantRows) std::cout << " " << l;
+          std::cout << "\n";
         }
       }
       for (const auto& name : sc.caseNames) {

@@ -50,6 +50,10 @@ struct Model {
   std::vector<std::unique_ptr<Element>> elements;
   std::vector<std::unique_ptr<Constraint>> constraints;
   std::vector<Parameter> parameters;
+  /// Redundant constraint rows left out of `constraints` (core/RedundantRows.hpp): their
+  /// labels, and the constraints left out whole (rows of the rest live in SelectedRows).
+  std::vector<std::string> redundantRows;
+  std::vector<std::unique_ptr<Constraint>> leftOut;
 
   int n = 0;  ///< number of coordinates
   int m = 0;  ///< number of scalar constraint equations

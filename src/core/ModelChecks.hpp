@@ -21,3 +21,19 @@ inline constexpr double kMaxVelocity = 1e6;
 std::vector<int> nodesActedOnByNothing(const Model& m);
 
 }  // namespace flexsens
+
+namespace flexsens {
+
+/// A direction of the free coordinates that carries no mass and that no stiffness, damping or
+/// constraint restrains at the initial state: every integrator's matrix
+/// (M/(beta h^2) + C gamma/(beta h) + K, Phi_q^T; Phi_q, 0) has it as a null vector for every
+/// step h, so a run can only fail on it. Empty when there is none.
+struct UnrestrainedMassless {
+  std::vector<int> nodes;  ///< the nodes the direction moves most, largest first
+  std::string direction;   ///< the direction in words, e.g. "n2.y" or "0.71 n2.x + 0.71 n3.x"
+};
+/// Dense rank-revealing QR on the columns of the massless coordinates; models too large for it
+/// (rows x massless columns > 4e7) are not checked (nullopt-like: empty result).
+UnrestrainedMassless unrestrainedMasslessDirection(const Model& m);
+
+}  // namespace flexsens

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/ModelChecks.hpp"
+#include "core/RedundantRows.hpp"
 #include "meshes/GmshCurves.hpp"
 #include "scene/KindTable.hpp"
 #include "scene/SceneParts.hpp"
@@ -150,6 +151,19 @@ void requireMass(const SceneContext& ctx, const YAML::Node& root) {
       if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
     ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);  // a Gmsh node
   }
+  // Touched, but with a massless direction nothing restrains (a node held by one spring or one
+  // distance only): the same singular matrix at the first step, so the same input error.
+  const UnrestrainedMassless u = unrestrainedMasslessDirection(ctx.m);
+  if (u.nodes.empty()) return;
+  const std::string& name = ctx.m.nodes[u.nodes.front()].name;
+  const std::string what = "node '" + name + "' has no mass in the direction " + u.direction +
+                           " and no stiffness, damping or constraint restrains it there at the initial "
+                           "state (every integrator's matrix is singular); give it mass (an element with "
+                           "density), a constraint in that direction, or a stiffness";
+  const YAML::Node list = root["nodes"];
+  for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i)
+    if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
+  ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);
 }
 
 Scene build(const std::string& file, const YAML::Node& root, const std::string& caseName) {
@@ -190,6 +204,9 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (root["parameters"]) readParameters(ctx, root["parameters"], caseNode ? &sel : nullptr);
   else if (!sel.paramNodes.empty())
     r.fail(sel.paramNodes.front().second, sel.paramsPath, "the scene defines no parameters (add a 'parameters' list)");
+  // Redundant rows (dependent at the initial positions) leave the model here, before the PIM
+  // counts d - m_r and before any matrix is factorized; `check` and summary.json name them.
+  leaveOutRedundantRows(m);
   if (caseNode) sc.pimCase = readPimCase(ctx, *caseNode, sel);
   if (root["static"]) readStaticSettings(r, root["static"], sc.statics);
   sc.hasIntegrator = root["integrator"] || !root["static"];

@@ -1,0 +1,76 @@
+#include "app/RunHealth.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/RedundantRows.hpp"
+#include "output/ResultWriter.hpp"
+
+namespace flexsens {
+
+RunHealth::RunHealth(const Assembler& as, const VecX& p, Observer& next) : as_(as), p_(p), next_(next) {
+  const Model& m = as.model();
+  if (!m.nodes.empty()) {
+    VecX lo = m.nodes[0].position, hi = lo;
+    for (const auto& nd : m.nodes) lo = lo.cwiseMin(nd.position), hi = hi.cwiseMax(nd.position);
+    size_ = std::max((hi - lo).norm(), 1e-3);
+  }
+  condChecked_ = m.m > 0 && static_cast<double>(m.m) * m.m * m.n <= kConditioningWork;
+}
+
+void RunHealth::frame(const StateWithSens& s) {
+  const Model& m = as_.model();
+  if (!m.redundantRows.empty()) {
+    const double v = leftOutViolation(m, as_, s.x.q, p_);
+    if (v > leftOut_) leftOut_ = v, tLeftOut_ = s.x.t;
+  }
+  for (size_t k = 0; k < s.dp.size() && static_cast<int>(k) < p_.size(); ++k) {
+    if (p_[k] == 0.0 || s.dp[k].q.size() == 0) continue;  // no scale to judge a zero nominal by
+    const double r = s.dp[k].q.lpNorm<Eigen::Infinity>() * std::abs(p_[k]) / size_;
+    if (!(r <= sens_)) sens_ = r, tSens_ = s.x.t, sensParam_ = static_cast<int>(k);
+    if (!(r <= kSensitivityBlowUp) && sensFirst_ < 0) sensFirst_ = s.x.t;
+  }
+  if (condChecked_) {
+    const MatX J = as_.phiQDense(s.x.q, p_);
+    const VecX ev = Eigen::SelfAdjointEigenSolver<MatX>(J * J.transpose(), Eigen::EigenvaluesOnly).eigenvalues();
+    const double c = ev[ev.size() - 1] > 0 ? std::sqrt(std::max(ev[0], 0.0) / ev[ev.size() - 1]) : 0.0;
+    if (c < cond_) cond_ = c, tCond_ = s.x.t;
+  }
+  next_.frame(s);
+}
+
+std::string RunHealth::reason() const {
+  std::ostringstream os;
+  if (leftOut_ > kLeftOutTolerance)
+    os << "a constraint row left out as redundant at t = 0 reached |Phi| = " << leftOut_ << " at t = " << tLeftOut_
+       << " s (tolerance " << kLeftOutTolerance << "): the redundancy did not persist along the motion, so the "
+       << "model integrated is not the one described; remove the redundant joint from the scene or replace it "
+       << "by one that constrains less";
+  if (sensFirst_ >= 0) {
+    if (os.tellp() > 0) os << "; ";
+    os << "sensitivity blow-up: |dq/dp| |p| / L of parameter '" << as_.model().parameters[sensParam_].name
+       << "' passed " << kSensitivityBlowUp << " at t = " << sensFirst_ << " s and reached " << sens_ << " at t = "
+       << tSens_ << " s (L = " << size_ << " m); the motion is that sensitive only past a bifurcation "
+       << "(a branch switch at a singular configuration, smallest sigma(Phi_q) ratio " << cond_ << " at t = " << tCond_
+       << " s) or in chaotic motion: try generalized_alpha or a smaller dt, and compare";
+  }
+  return os.str();
+}
+
+std::string RunHealth::json() const {
+  std::ostringstream os;
+  os << "{\"redundant_rows_left_out\": [";
+  const auto& rows = as_.model().redundantRows;
+  for (size_t i = 0; i < rows.size(); ++i) os << (i ? ", " : "") << jsonString(rows[i]);
+  os << "], \"max_left_out_violation\": " << jsonNumber(leftOut_) << ", \"left_out_at_t\": " << jsonNumber(tLeftOut_)
+     << ", \"max_relative_sensitivity\": " << jsonNumber(sens_) << ", \"sensitivity_at_t\": " << jsonNumber(tSens_)
+     << ", \"model_size_m\": " << jsonNumber(size_);
+  if (condChecked_)
+    os << ", \"min_constraint_conditioning\": " << jsonNumber(cond_) << ", \"conditioning_at_t\": " << jsonNumber(tCond_);
+  os << "}";
+  return os.str();
+}
+
+}  // namespace flexsens

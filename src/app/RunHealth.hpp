@@ -1,0 +1,48 @@
+// Run health beyond energy (the energy audit is app/EnergyAudit): at every frame,
+//  - the constraint rows left out as redundant (core/RedundantRows.hpp): the elimination is
+//    exact only while the redundancy persists, so a left-out row beyond kLeftOutTolerance
+//    makes the run `suspect`;
+//  - the sensitivities: max_i |dq_i/dp_k| |p_k| / L (L the size of the model, the diagonal of
+//    its initial bounding box) beyond kSensitivityBlowUp makes the run `suspect`: a 0.1%
+//    change of p_k would move the mechanism by its own size, so the gradient is no guide (the
+//    N-four-bar on maggi_rk4 reaches 1e6 after taking the wrong branch at a singular passage,
+//    generalized-alpha's correct run stays below 1);
+//  - the conditioning of Phi_q, sigma_min / sigma_max (from the eigenvalues of Phi_q Phi_q^T),
+//    reported with its time: a near-singular passage, where a scheme may change branch.
+#pragma once
+
+#include <string>
+
+#include "core/Assembler.hpp"
+#include "integrators/State.hpp"
+
+namespace flexsens {
+
+inline constexpr double kLeftOutTolerance = 1e-6;    ///< |Phi| of a left-out row [m or its unit]
+inline constexpr double kSensitivityBlowUp = 1e3;    ///< relative sensitivity |dq/dp| |p| / L [-]
+inline constexpr double kConditioningWork = 1e8;     ///< m^2 n per frame above which it is skipped
+
+class RunHealth : public Observer {
+ public:
+  RunHealth(const Assembler& as, const VecX& p, Observer& next);
+  void frame(const StateWithSens& s) override;
+  void progress(double t) override { next_.progress(t); }
+  void reached(const IntegratorStats& st) override { next_.reached(st); }
+  /// Plain words when a left-out row drifted or a sensitivity blew up; empty otherwise.
+  std::string reason() const;
+  /// summary.json's "health" object.
+  std::string json() const;
+
+ private:
+  const Assembler& as_;
+  const VecX& p_;
+  Observer& next_;
+  double size_ = 1.0;  ///< L [m]
+  double leftOut_ = 0.0, tLeftOut_ = 0.0;
+  double sens_ = 0.0, tSens_ = 0.0, sensFirst_ = -1.0;  ///< largest, its time, first time past the limit
+  int sensParam_ = -1;
+  double cond_ = 1.0, tCond_ = 0.0;
+  bool condChecked_ = false;
+};
+
+}  // namespace flexsens

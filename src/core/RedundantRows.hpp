@@ -1,0 +1,45 @@
+// Redundant constraints handled by elimination: rows of Phi_q that depend on the others at the
+// initial positions (rank-revealing QR with column pivoting of Phi_q^T; the rows the pivoting
+// leaves last) are left out of the model, so the Newton, IDAS and PIM matrices are regular.
+// This is exact while the redundancy persists along the motion (Bricard, a parallelogram with
+// a third crank, a planar loop of revolute joints built in 3D: structural redundancy); a run
+// checks that the left-out rows stay satisfied (RedundancyMonitor) and is `suspect` otherwise.
+// Their reactions are reported as zero: redundant reactions are not unique (the rows kept
+// carry the load).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+
+namespace flexsens {
+
+/// Pivot threshold relative to the largest: far above the round-off of O(1) entries (1e-16)
+/// and far below any physical independence (a 1e-10 rad offset).
+inline constexpr double kRedundancyThreshold = 1e-10;
+/// n * m^2 of the dense QR (~1e10 flops, a few seconds); larger models are not checked.
+inline constexpr double kMaxRedundancyWork = 1e10;
+
+struct DependentRows {
+  bool checked = false;         ///< false when n * m^2 is above kMaxRedundancyWork
+  int rank = 0;                 ///< numerical rank of Phi_q
+  std::vector<int> rows;        ///< global row indices that depend on the others, ascending
+  std::vector<std::string> labels;  ///< "constraint" or "constraint[i]" for each
+};
+
+/// The dependent rows of Phi_q(q0, p) over `m.constraints` (finalized model).
+DependentRows dependentRows(const Model& m, const VecX& q0, const VecX& p);
+
+/// Leaves the dependent rows of m's constraints out (constraints/SelectedRows; a constraint
+/// whose rows are all dependent goes), renumbers, and returns what was left out. Call after
+/// the parameters are bound.
+DependentRows leaveOutRedundantRows(Model& m);
+
+}  // namespace flexsens
+
+namespace flexsens {
+class Assembler;
+/// Largest |Phi_i| of the left-out rows at (q, p); 0 when nothing was left out.
+double leftOutViolation(const Model& m, const Assembler& as, const VecX& q, const VecX& p);
+}  // namespace flexsens
