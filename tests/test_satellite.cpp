@@ -22,9 +22,9 @@ struct Satellite {
   StateWithSens start;
 };
 
-std::unique_ptr<Satellite> load(const std::string& caseName) {
+std::unique_ptr<Satellite> load(const std::string& caseName, const std::string& file = "satellite.yaml") {
   auto s = std::make_unique<Satellite>();
-  s->sc = readScene(sourceDir() + "/examples/satellite/satellite.yaml", caseName);
+  s->sc = readScene(sourceDir() + "/examples/satellite/" + file, caseName);
   s->as = std::make_unique<Assembler>(*s->sc.model);
   s->p = s->sc.model->nominalParameters();
   s->start = initialState(*s->as, s->p, s->sc.pimCase.get(), &s->pim);
@@ -67,6 +67,24 @@ TEST(Satellite, CountsOfTheModelAndOfThePimCases) {
   const Eigen::Vector3d d = m.nodes[B2].position - m.nodes[B1].position;
   const Eigen::Vector3d dd = s2->start.dp[0].q.segment<3>(m.dof(B2, 0)) - s2->start.dp[0].q.segment<3>(m.dof(B1, 0));
   EXPECT_NEAR(d.normalized().dot(dd), 1.0, 1e-9);  // d|B1B2|/dL = 1
+}
+
+// The non-flat variant (satellite_nonflat.yaml: B3, B5, B8 lifted 5 cm out of their panels'
+// planes): each rigidized panel truss is then rigid at first order, so the rank-revealing count
+// leaves exactly the paper's 7 SDOFs (cube 6 + x_B2), with x_B2's sensitivity 0 (SAT1) and 4
+// (SAT2) at t = 0, and the initial sensitivities on the constraints: Phi_q q_p + Phi_p = 0.
+TEST(Satellite, NonFlatPanelsNeedExactlyThePapersSevenSdofs) {
+  for (const char* name : {"SAT1", "SAT2"}) {
+    auto s = load(name, "satellite_nonflat.yaml");
+    EXPECT_EQ(s->pim.d - s->pim.mr, 7) << name;
+    EXPECT_EQ(s->pim.ds, 7) << name;
+    const Model& m = *s->sc.model;
+    const int xB2 = m.dof(m.nodeIndex("B2"), 0);
+    EXPECT_NEAR(s->start.dp[0].q[xB2], std::string(name) == "SAT1" ? 0.0 : 4.0, 1e-12) << name;
+    const VecX r = s->as->phiQTimes(s->start.x.q, s->p, s->start.dp[0].q) + s->as->phiParamDerivative(s->start.x.q, s->p, 0);
+    EXPECT_LT(r.lpNorm<Eigen::Infinity>(), 1e-9) << name;
+    EXPECT_GT((m.nodes[m.nodeIndex("B3")].position - m.nodes[m.nodeIndex("B7")].position).norm(), 0.04);
+  }
 }
 
 TEST(Satellite, Bdf1SensitivitiesMatchCentralDifferencesAt1_5_10s) {
