@@ -1,13 +1,18 @@
 """Renders a flexsens VTK series to PNG frames; run by ParaView's pvbatch (scripts/render-frames.sh).
 
-    pvbatch render_frames.py RUN_DIR OUT_DIR [PARAM] [--every N] [--size WxH] [--no-tube]
+    pvbatch render_frames.py RUN_DIR OUT_DIR [PARAM] [--every N] [--size WxH] [--no-tube] [--warp S]
 
 RUN_DIR holds frames.pvd + frame_NNNNN.vtu as written by `flexsens run` (points at the current
 positions, line cells, point data dq/d<param>). The lines (as tubes unless --no-tube) are
 coloured by |dq/d<PARAM>| (default: the first dq/d* array) with one colour range for the whole
 series (0 .. max over all frames) and a camera that frames the motion of all frames, so that
-frames compare. Writes OUT_DIR/frame_00000.png, frame_00001.png, ... (numbered consecutively;
-with --every N output frame k is series frame k*N). Exit code 1 with a message on bad input.
+frames compare. Rigid bodies (element_kind 4, their basic frame A-B, A-C, A-D) are drawn as
+solids: the box on the three edges when they are orthogonal (the satellite's cube), else the
+tetrahedron of the four basic points, coloured by the same field (exact: a rigid body's
+dq/dp is affine in its points). Nodes are small spheres in the field's colours. --warp S draws
+the shape at q + S dq/dp. Writes OUT_DIR/frame_00000.png, frame_00001.png, ... (numbered
+consecutively; with --every N output frame k is series frame k*N) and RUN_DIR/view.pvsm, a
+ParaView state with the same pipeline (File > Load State). Exit code 1 on bad input.
 """
 import argparse
 import math
@@ -18,6 +23,72 @@ import sys
 # separates table columns and vanishes ("|dq/dp|" would show as "dq/dp"). Without matplotlib
 # it falls back to FreeType, which draws the bars; no mathtext is needed here.
 sys.modules["matplotlib"] = None
+
+
+# Run inside ParaView's Programmable Filter: rigid bodies (cell data element_kind == 4: the
+# lines A-B, A-C, A-D of one element_id) as a hexahedron (orthogonal edges) or a tetrahedron.
+SOLIDS_SCRIPT = """
+import builtins
+import vtk
+inp = self.GetInputDataObject(0, 0)
+out = self.GetOutputDataObject(0)
+kind = inp.GetCellData().GetArray('element_kind')
+eid = inp.GetCellData().GetArray('element_id')
+pts = vtk.vtkPoints()
+out.SetPoints(pts)
+out.Allocate(8)
+pd_in = inp.GetPointData()
+arrays = []
+for i in range(pd_in.GetNumberOfArrays()):
+    src = pd_in.GetArray(i)
+    dst = src.NewInstance()
+    dst.SetName(src.GetName())
+    dst.SetNumberOfComponents(src.GetNumberOfComponents())
+    out.GetPointData().AddArray(dst)
+    arrays.append((src, dst))
+bodies = {}
+if kind is not None and eid is not None:
+    for c in range(inp.GetNumberOfCells()):
+        if int(kind.GetValue(c)) == 4:
+            ids = inp.GetCell(c).GetPointIds()
+            bodies.setdefault(int(eid.GetValue(c)), []).append((ids.GetId(0), ids.GetId(1)))
+def add(weights):
+    x = [0.0, 0.0, 0.0]
+    for pid, w in weights:
+        p = inp.GetPoint(pid)
+        for k in range(3):
+            x[k] += w * p[k]
+    for src, dst in arrays:
+        n = src.GetNumberOfComponents()
+        v = [0.0] * n
+        for pid, w in weights:
+            t = src.GetTuple(pid)
+            for k in range(n):
+                v[k] += w * t[k]
+        dst.InsertNextTuple(v)
+    return pts.InsertNextPoint(x)
+for b, edges in bodies.items():
+    if len(edges) != 3 or len(builtins.set(e[0] for e in edges)) != 1:
+        continue
+    A = edges[0][0]
+    B, C, D = (e[1] for e in edges)
+    P = [inp.GetPoint(i) for i in (A, B, C, D)]
+    e = [[P[j][k] - P[0][k] for k in range(3)] for j in (1, 2, 3)]
+    dot = lambda u, v: builtins.sum(u[k] * v[k] for k in range(3))
+    scale = builtins.max(dot(u, u) for u in e)
+    ortho = builtins.all(builtins.abs(dot(e[i], e[j])) < 1e-6 * scale for i, j in ((0, 1), (0, 2), (1, 2)))
+    if ortho:  # corners A + i (B - A) + j (C - A) + k (D - A), VTK's hexahedron order
+        ids = []
+        for i, j, k in ((0,0,0),(1,0,0),(1,1,0),(0,1,0),(0,0,1),(1,0,1),(1,1,1),(0,1,1)):
+            w = {A: 1.0 - i - j - k}
+            for pid, f in ((B, i), (C, j), (D, k)):
+                w[pid] = w.get(pid, 0.0) + f
+            ids.append(add(list(w.items())))
+        out.InsertNextCell(vtk.VTK_HEXAHEDRON, 8, ids)
+    else:
+        ids = [add([(pid, 1.0)]) for pid in (A, B, C, D)]
+        out.InsertNextCell(vtk.VTK_TETRA, 4, ids)
+"""
 
 
 def fail(msg):
@@ -36,6 +107,10 @@ def parse_args(argv):
     ap.add_argument("--every", type=int, default=1, metavar="N", help="render every N-th frame (default 1)")
     ap.add_argument("--size", default="1280x720", metavar="WxH", help="image size in pixels (default 1280x720)")
     ap.add_argument("--no-tube", action="store_true", help="draw plain lines instead of tubes")
+    ap.add_argument("--warp", type=float, default=0.0, metavar="S",
+                    help="draw the shape at q + S dq/d<param> (S in units of the parameter; default 0)")
+    ap.add_argument("--no-state", action="store_true",
+                    help="do not write RUN_DIR/view.pvsm (a ParaView state with this pipeline)")
     try:
         a = ap.parse_args(argv)
     except SystemExit as e:
@@ -127,10 +202,15 @@ def main(argv):
     view.OrientationAxesVisibility = 0
     pv.SetActiveView(view)
 
+    source = reader
+    if a.warp != 0.0:
+        source = pv.WarpByVector(Input=reader)
+        source.Vectors = ["POINTS", array]
+        source.ScaleFactor = a.warp
     if a.no_tube:
-        shown = reader
+        shown = source
     else:
-        surf = pv.ExtractSurface(Input=reader)
+        surf = pv.ExtractSurface(Input=source)
         shown = pv.Tube(Input=surf)
         shown.Radius = 0.006 * diag
         shown.NumberofSides = 16
@@ -152,13 +232,12 @@ def main(argv):
     lut.RescaleTransferFunction(0.0, vmax)
     pv.GetOpacityTransferFunction(array).RescaleTransferFunction(0.0, vmax)
 
-    # nodes as small dark spheres, so that joints are visible
-    nodes = pv.Show(reader, view)
+    # nodes as small spheres in the field's colours: joints visible, the field not hidden
+    nodes = pv.Show(source, view)
     nodes.SetRepresentationType("Points")
-    nodes.PointSize = max(4.0, 16.0 * px)
+    nodes.PointSize = max(3.0, 7.0 * px)
     nodes.RenderPointsAsSpheres = 1
-    nodes.ColorArrayName = ["POINTS", ""]
-    nodes.AmbientColor = nodes.DiffuseColor = [0.15, 0.15, 0.15]
+    pv.ColorBy(nodes, ("POINTS", array, "Magnitude"))
 
     bar = pv.GetScalarBar(lut, view)
     bar.Title = "|dq/d%s| [m per unit of %s]" % (param, param)
@@ -246,6 +325,24 @@ def main(argv):
     view.CameraPosition = [focal[i] + direction[i] * 3 * diag for i in range(3)]
     view.CameraViewUp = up
     view.CameraParallelScale = parallel
+
+    # Rigid bodies as solids: the kind-4 cells of each body (A-B, A-C, A-D) become a box or a
+    # tetrahedron with the field carried over by the same affine weights. Made last: ParaView
+    # runs the filter's script in this module's namespace, where it shadows max, min, sum.
+    solids = pv.ProgrammableFilter(Input=source)
+    solids.OutputDataSetType = "vtkUnstructuredGrid"
+    solids.Script = SOLIDS_SCRIPT
+    solids_disp = pv.Show(solids, view)
+    pv.ColorBy(solids_disp, ("POINTS", array, "Magnitude"))
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(0.0, vmax)  # ColorBy rescaled it to the solids' own range
+
+    if not a.no_state:
+        state = os.path.join(os.path.abspath(a.run_dir), "view.pvsm")
+        try:
+            pv.SaveState(state)
+        except Exception as e:  # a read-only run directory: the pictures still come
+            sys.stderr.write("render_frames: no state written (%s)\n" % e)
 
     # --- frames --------------------------------------------------------------------------
     os.makedirs(a.out_dir, exist_ok=True)
