@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cstdio>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,13 @@
 #include "core/Types.hpp"
 
 namespace flexsens {
+
+/// A number for messages: %g (6 significant digits).
+inline std::string fmtNumber(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", x);
+  return b;
+}
 
 enum class Simplex { Tri3, Tri6, Tet4, Tet10 };
 

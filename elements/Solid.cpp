@@ -40,9 +40,9 @@ Solid::Solid(std::string name, std::vector<int> nodes, std::shared_ptr<SolidProp
     if (!(detJ > tol)) {
       const VecX X = restX * N;
       throw std::invalid_argument(who + ": " + (detJ < -tol ? "inverted" : "degenerate") +
-                                  " (det dX/dxi = " + std::to_string(detJ) + " at rest point (" +
-                                  std::to_string(X[0]) + ", " + std::to_string(X[1]) +
-                                  (dim_ == 3 ? ", " + std::to_string(X[2]) : std::string()) +
+                                  " (det dX/dxi = " + fmtNumber(detJ) + " at rest point (" +
+                                  fmtNumber(X[0]) + ", " + fmtNumber(X[1]) +
+                                  (dim_ == 3 ? ", " + fmtNumber(X[2]) : std::string()) +
                                   "); expected a positive " + (dim_ == 2 ? "area" : "volume") + ")");
     }
     (void)xi;
