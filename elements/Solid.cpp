@@ -72,6 +72,12 @@ Solid::Solid(std::string name, std::vector<int> nodes, std::shared_ptr<SolidProp
   }
 }
 
+void Solid::checkOrientation(double detF) const {
+  if (props_->law.law == Law::NeoHookean && !(detF > 0.0))
+    throw NumericalError("solid element " + name() + ": inverted (det F = " + fmtNumber(detF) +
+                         " <= 0, the element turned inside out): the neo-Hookean energy is undefined");
+}
+
 double Solid::lambdaRest(double mu, double lam) const {
   return props_->law.planeStress() ? material::planeStressLambda(mu, lam) : lam;
 }
@@ -127,6 +133,7 @@ VecT<T> Solid::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, c
       F += x.segment(i * d, d) * P.G.row(i).template cast<T>();
       if (hasV) Fd += v.segment(i * d, d) * P.G.row(i).template cast<T>();
     }
+    checkOrientation(material::plain(material::det(F)));
     const MatT<T> E = 0.5 * (F.transpose() * F - I);
     MatT<T> S = props_->law.stress(E, mu, lam, who);
     if (hasV) {
@@ -157,6 +164,7 @@ void Solid::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   MatX F, Fd;
   for (const Point& P : pts_) {
     kinematics(P, s.x, s.v, F, Fd);
+    checkOrientation(F.determinant());
     const MatX E = 0.5 * (F.transpose() * F - I);
     const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
     const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
@@ -210,6 +218,7 @@ bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) 
   MatX F, Fd, dSmu, dSlam;
   for (const Point& P : pts_) {
     kinematics(P, s.x, s.v, F, Fd);
+    checkOrientation(F.determinant());
     const MatX E = 0.5 * (F.transpose() * F - I);
     const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
     const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
@@ -237,6 +246,7 @@ double Solid::potential(const LocalState& s) const {
   const VecX none;
   for (const Point& P : pts_) {
     kinematics(P, s.x, none, F, Fd);
+    checkOrientation(F.determinant());
     U += P.w * t * props_->law.energy(0.5 * (F.transpose() * F - MatX::Identity(d, d)), mu, lam);
   }
   if (s.gravity)  // minus the work of gravity, -G^T M x [J]

@@ -76,6 +76,8 @@ class Solid : public KernelElement<Solid> {
   void kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const;
   MatX elasticity0(double mu, double lamV, const MatX& A) const;  ///< C0 : A
   double lambdaRest(double mu, double lam) const;                 ///< lambda of C0
+  /// Neo-Hookean: NumericalError naming the element when det F <= 0 (det C cannot tell).
+  void checkOrientation(double detF) const;
 
   std::vector<const Quantity*> kernelProperties() const {
     return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha, &props_->beta};

@@ -15,6 +15,8 @@
 //     ground: [root]           # Physical Points or node groups whose nodes are fixed
 //     traction: [{group: tip, force: [0, -100]}]  # total dead force [N] spread uniformly
 //                                                 # over the group's boundary facets
+//     velocity: [1, 0]         # optional initial velocity [m/s] of every free node, plus
+//     angular_velocity: 2      # omega [rad/s] (planar) or [wx, wy, wz] about center (default 0)
 // Nodes on Physical Points take the point's name (joints and loads name them); the others
 // are "<body>.<Gmsh node tag>". A planar scene reads the mesh's x, y (z must be 0) as its two
 // axes. Every property (E, nu, density, thickness, alpha, beta) is bindable as a parameter.
@@ -51,7 +53,7 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   Model& m = ctx.m;
   const int d = m.dim;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "order", "material", "state", "E", "nu", "density",
-                        "thickness", "damping", "ground", "traction"});
+                        "thickness", "damping", "ground", "traction", "velocity", "angular_velocity", "center"});
   auto props = std::make_shared<SolidProperties>();
   props->dim = d;
   // --- material -------------------------------------------------------------------------
@@ -154,6 +156,33 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
       for (int i : groupNodes(gl[k], key, r.text(gl[k], key))) {
         m.nodes[ids[i]].ground = true;
         m.nodes[ids[i]].velocity = VecX::Zero(d);
+      }
+    }
+  }
+  // --- initial velocity: v_i = velocity + omega x (x_i - center) ----------------------------
+  if (el["velocity"] || el["angular_velocity"]) {
+    if (el["center"] && !el["angular_velocity"])
+      r.fail(el["center"], path + ".center", "center is the point angular_velocity turns about: give angular_velocity");
+    const VecX v0 = el["velocity"] ? r.vector(el["velocity"], path + ".velocity", d) : VecX(VecX::Zero(d));
+    const VecX c0 = el["center"] ? r.vector(el["center"], path + ".center", d) : VecX(VecX::Zero(d));
+    Eigen::Vector3d w = Eigen::Vector3d::Zero();
+    if (el["angular_velocity"]) {
+      if (d == 2) w.z() = r.number(el["angular_velocity"], path + ".angular_velocity");
+      else w = r.vector(el["angular_velocity"], path + ".angular_velocity", 3);
+    }
+    const std::string key = el["velocity"] ? path + ".velocity" : path + ".angular_velocity";
+    const YAML::Node at0 = el["velocity"] ? el["velocity"] : el["angular_velocity"];
+    for (int id : ids) {
+      if (m.nodes[id].ground) continue;
+      Eigen::Vector3d rel3 = Eigen::Vector3d::Zero();
+      rel3.head(d) = m.nodes[id].position - c0;
+      const VecX v = v0 + VecX(w.cross(rel3)).head(d);
+      if (!(v.lpNorm<Eigen::Infinity>() <= 1e6)) r.fail(at0, key, "expected node velocities within +-1e6 m/s");
+      if (d == 3) {
+        ctx.setVelocity(id, Eigen::Vector3d(v), at0, key);  // checks a node shared with another body
+      } else {
+        m.nodes[id].velocity = v;
+        ctx.velocitySetBy(id, key);
       }
     }
   }
