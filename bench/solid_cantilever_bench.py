@@ -86,9 +86,9 @@ def main():
                 lines.append("")
                 lines.append("%s, quadratic elements against the finest (h = %g): " % ("plate" if dim == 2 else "bar", mine[-1][1]) +
                              ", ".join("h = %g: %.2e" % (h, abs(w / wf - 1)) for _, h, w in mine[:-1]))
-                lines.append("")
-                lines.append("| body | order | h [m] | coordinates n | tip deflection [m] | rel. difference | rate |")
-                lines.append("|---|---|---|---|---|---|---|")
+                if dim == 2:
+                    lines += ["", "| body | order | h [m] | coordinates n | tip deflection [m] | rel. difference | rate |",
+                              "|---|---|---|---|---|---|---|"]
     open(os.path.join(OUT, "bench.md"), "w").write("\n".join(lines) + "\n")
 
 
