@@ -1,5 +1,6 @@
 // Gmsh geometry -> node chains; see GmshCurves.hpp.
 #include "meshes/GmshCurves.hpp"
+#include "meshes/GmshSession.hpp"
 
 #include <gmsh.h>
 
@@ -18,42 +19,6 @@
 namespace flexsens {
 
 namespace {
-
-/// Gmsh 4.8 has no gmsh::isInitialized(). An API call on an uninitialized Gmsh returns without
-/// touching its outputs (never initialized in this process) or throws std::string("Gmsh has
-/// not been initialized") (after a finalize), printing nothing either way; so an option read
-/// into a NaN probes it.
-bool gmshInitialized() {
-  double v = std::numeric_limits<double>::quiet_NaN();
-  try {
-    gmsh::option::getNumber("General.Terminal", v);
-  } catch (...) {
-    return false;
-  }
-  return !std::isnan(v);
-}
-
-/// Gmsh session of one meshCurves() call: initialized quietly, finalized on every exit path.
-class GmshSession {
- public:
-  GmshSession() {
-    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
-    gmsh::option::setNumber("General.Terminal", 0);
-  }
-  ~GmshSession() {
-    try {
-      gmsh::finalize();
-    } catch (...) {
-    }
-  }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
-};
-
-std::mutex& gmshMutex() {
-  static std::mutex m;
-  return m;
-}
 
 /// Polyline length of a curve from 256 chords of its parametrization (only the ratios of the
 /// lengths of a group's curves are used, to share the segments out).

@@ -163,7 +163,15 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       converged = newton(false);
     } catch (const NumericalError&) {  // singular Newton matrix on the way: retry below
     }
-    if (!converged) converged = newton(true);
+    if (!converged) {
+      try {
+        converged = newton(true);
+      } catch (const NumericalError& e) {  // e.g. an element turned inside out: say when
+        std::ostringstream os;
+        os << set.type << " step " << step << " at t = " << t << " s (h = " << h << " s): " << e.what();
+        throw NumericalError(os.str());
+      }
+    }
     if (!converged) {
       std::ostringstream os;
       os << set.type << " step " << step << " at t = " << t << " s (h = " << h

@@ -1,5 +1,7 @@
 #include "output/ResultWriter.hpp"
 
+#include "elements/Solid.hpp"
+
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
@@ -152,7 +154,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(pts);
   vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid
   id->SetName("element_id");
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
@@ -171,8 +173,71 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       id->InsertNextValue(static_cast<int>(e));
     }
   }
+  // Meshed bodies (elements/Solid.hpp): cells of their real type, with cell data of the
+  // Green-Lagrange strain, the second Piola-Kirchhoff and Cauchy stresses (3x3 tensors in the
+  // scene's axes, planar ones padded with zeros) and the von Mises stress at each cell's
+  // centroid, at the nominal parameters; NaN on the other cells. Only when the model has one.
+  bool anySolid = false;
+  for (const auto& el : m.elements) anySolid = anySolid || dynamic_cast<const Solid*>(el.get());
+  vtkNew<vtkDoubleArray> strain, pk2, cauchy, mises;
+  if (anySolid) {
+    const vtkIdType before = grid->GetNumberOfCells();
+    for (auto* a : {strain.Get(), pk2.Get(), cauchy.Get()}) a->SetNumberOfComponents(9);
+    strain->SetName("green_lagrange_strain");
+    pk2->SetName("stress_pk2");
+    cauchy->SetName("stress_cauchy");
+    mises->SetName("von_mises");
+    const double nan = std::nan("");
+    const std::array<double, 9> nans{nan, nan, nan, nan, nan, nan, nan, nan, nan};
+    for (vtkIdType c = 0; c < before; ++c) {
+      strain->InsertNextTuple(nans.data());
+      pk2->InsertNextTuple(nans.data());
+      cauchy->InsertNextTuple(nans.data());
+      mises->InsertNextValue(nan);
+    }
+    const VecX p = m.nominalParameters();
+    for (size_t e = 0; e < m.elements.size(); ++e) {
+      const auto* so = dynamic_cast<const Solid*>(m.elements[e].get());
+      if (!so) continue;
+      const auto& nodes = so->nodes();
+      std::vector<vtkIdType> ids(nodes.begin(), nodes.end());
+      const int type = so->shape() == Simplex::Tri3 ? VTK_TRIANGLE : so->shape() == Simplex::Tri6 ? VTK_QUADRATIC_TRIANGLE
+                       : so->shape() == Simplex::Tet4 ? VTK_TETRA : VTK_QUADRATIC_TETRA;
+      grid->InsertNextCell(type, static_cast<vtkIdType>(ids.size()), ids.data());
+      kind->InsertNextValue(5);
+      id->InsertNextValue(static_cast<int>(e));
+      LocalState ls;
+      ls.dim = m.dim;
+      ls.p = &p;
+      ls.x.resize(m.dim * nodes.size());
+      for (size_t j = 0; j < nodes.size(); ++j)
+        for (int c = 0; c < m.dim; ++c) ls.x[j * m.dim + c] = m.coordinate(s.x.q, nodes[j], c);
+      MatX E, S, sig;
+      double vm = nan;
+      try {
+        so->centroidStress(ls, E, S, sig, vm);
+      } catch (const NumericalError&) {  // inside out: no stress to show
+        E = S = sig = MatX::Constant(m.dim, m.dim, nan);
+      }
+      auto put = [&](vtkDoubleArray* a, const MatX& T) {
+        std::array<double, 9> t{};
+        for (int r = 0; r < m.dim; ++r)
+          for (int c = 0; c < m.dim; ++c) {
+            const int R = m.dim == 3 ? r : axis3(m, r), C = m.dim == 3 ? c : axis3(m, c);
+            t[3 * R + C] = T(r, c);
+          }
+        a->InsertNextTuple(t.data());
+      };
+      put(strain, E);
+      put(pk2, S);
+      put(cauchy, sig);
+      mises->InsertNextValue(vm);
+    }
+  }
   grid->GetCellData()->AddArray(kind);
   grid->GetCellData()->AddArray(id);
+  if (anySolid)
+    for (auto* a : {strain.Get(), pk2.Get(), cauchy.Get(), mises.Get()}) grid->GetCellData()->AddArray(a);
   grid->GetPointData()->AddArray(pos);
   grid->GetPointData()->AddArray(disp);
   grid->GetPointData()->AddArray(vel);

@@ -23,6 +23,7 @@ const KindTable& elementKinds() {
       {"rigid_bar", readRigidBar},
       {"rigid_body", readRigidBody},
       {"rotational_spring_damper", readRotationalSpring},
+      {"solid", readSolid},
       {"spring_damper", readSpringDamper},
   }};
   return t;

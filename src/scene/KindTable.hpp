@@ -32,6 +32,7 @@ void readPlanarRigidBody(SceneContext&, const YAML::Node&, const std::string&, c
 void readAncfCable(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readSolid(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRotationalSpring(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readDistance(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readFixed(SceneContext&, const YAML::Node&, const std::string&, const std::string&);

@@ -188,7 +188,12 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   }
   m.gravity = root["gravity"] ? r.vector(root["gravity"], "gravity", m.dim) : VecX::Zero(m.dim);
   if (root["geometry"]) readGeometry(ctx, root["geometry"]);
-  if (root["nodes"] || !root["geometry"]) readNodes(ctx, r.require(root, "nodes", ""));
+  // Nodes may all come from Gmsh: the geometry's named points or a meshed body (type: solid).
+  bool meshedBody = false;
+  if (root["elements"] && root["elements"].IsSequence())
+    for (const auto& item : root["elements"])
+      if (item.IsMap() && item["type"] && item["type"].IsScalar() && item["type"].Scalar() == "solid") meshedBody = true;
+  if (root["nodes"] || !(root["geometry"] || meshedBody)) readNodes(ctx, r.require(root, "nodes", ""));
   if (root["elements"]) readItems(ctx, root["elements"], "elements", "element", elementKinds());
   ctx.checkSlopes();
   if (root["constraints"]) readItems(ctx, root["constraints"], "constraints", "constraint", constraintKinds());

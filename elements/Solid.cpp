@@ -1,0 +1,283 @@
+#include "elements/Solid.hpp"
+
+#include <cmath>
+
+#include "elements/KernelElementAD.hpp"
+
+namespace flexsens {
+
+std::vector<std::pair<std::string, Quantity*>> SolidProperties::properties() {
+  std::vector<std::pair<std::string, Quantity*>> p{{"E", &E}, {"nu", &nu}, {"density", &density}};
+  if (dim == 2) p.push_back({"thickness", &thickness});
+  p.push_back({"alpha", &alpha});
+  p.push_back({"beta", &beta});
+  return p;
+}
+
+namespace {
+/// The reference Jacobian dX/dxi (dim x dim) at a point with shape gradients dN (nodes x dim).
+MatX restJacobian(const MatX& restX, const MatX& dN) { return restX * dN; }
+}  // namespace
+
+Solid::Solid(std::string name, std::vector<int> nodes, std::shared_ptr<SolidProperties> props, Simplex shape,
+             const MatX& restX)
+    : KernelElement(std::move(name), std::move(nodes)), props_(std::move(props)), shape_(shape) {
+  const std::string who = "solid element " + this->name();
+  dim_ = simplexDim(shape);
+  n_ = simplexNodes(shape);
+  if (!props_) throw std::invalid_argument(who + ": no material");
+  if (static_cast<int>(this->nodes().size()) != n_ || restX.rows() != dim_ || restX.cols() != n_)
+    throw std::invalid_argument(who + ": a " + simplexName(shape) + " needs " + std::to_string(n_) + " nodes of dimension " +
+                                std::to_string(dim_));
+  // Scale of the element for the degeneracy test: det J0 against (longest corner edge)^dim.
+  double h = 0.0;
+  for (int a = 0; a <= dim_; ++a)
+    for (int b = a + 1; b <= dim_; ++b) h = std::max(h, (restX.col(a) - restX.col(b)).norm());
+  const double tol = 1e-10 * std::pow(h, dim_);
+  VecX N;
+  MatX dN;
+  auto check = [&](const VecX& xi, double detJ) {
+    if (!(detJ > tol)) {
+      const VecX X = restX * N;
+      throw std::invalid_argument(who + ": " + (detJ < -tol ? "inverted" : "degenerate") +
+                                  " (det dX/dxi = " + fmtNumber(detJ) + " at rest point (" +
+                                  fmtNumber(X[0]) + ", " + fmtNumber(X[1]) +
+                                  (dim_ == 3 ? ", " + fmtNumber(X[2]) : std::string()) +
+                                  "); expected a positive " + (dim_ == 2 ? "area" : "volume") + ")");
+    }
+    (void)xi;
+  };
+  const SimplexRule ks = stiffnessRule(shape);
+  for (size_t g = 0; g < ks.x.size(); ++g) {
+    simplexShape(shape, ks.x[g], N, dN);
+    const MatX J = restJacobian(restX, dN);
+    const double detJ = J.determinant();
+    check(ks.x[g], detJ);
+    pts_.push_back({dN * J.inverse(), ks.w[g] * detJ});
+  }
+  {
+    const VecX xi = VecX::Constant(dim_, 1.0 / (dim_ + 1));
+    simplexShape(shape, xi, N, dN);
+    const MatX J = restJacobian(restX, dN);
+    check(xi, J.determinant());
+    centroidG_ = dN * J.inverse();
+  }
+  const SimplexRule ms = massRule(shape);
+  massShape_.setZero(n_, n_);
+  for (size_t g = 0; g < ms.x.size(); ++g) {
+    simplexShape(shape, ms.x[g], N, dN);
+    const double detJ = restJacobian(restX, dN).determinant();
+    check(ms.x[g], detJ);
+    massShape_ += (ms.w[g] * detJ) * N * N.transpose();
+  }
+}
+
+void Solid::checkOrientation(double detF) const {
+  if (props_->law.law == Law::NeoHookean && !(detF > 0.0))
+    throw NumericalError("solid element " + name() + ": inverted (det F = " + fmtNumber(detF) +
+                         " <= 0, the element turned inside out): the neo-Hookean energy is undefined");
+}
+
+double Solid::lambdaRest(double mu, double lam) const {
+  return props_->law.planeStress() ? material::planeStressLambda(mu, lam) : lam;
+}
+
+MatX Solid::elasticity0(double mu, double lamV, const MatX& A) const {
+  return lamV * A.trace() * MatX::Identity(dim_, dim_) + 2.0 * mu * A;
+}
+
+void Solid::kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const {
+  const int d = dim_;
+  F.setZero(d, d);
+  Fd.setZero(d, d);
+  for (int i = 0; i < n_; ++i) {
+    F += x.segment(i * d, d) * P.G.row(i);
+    if (v.size() == x.size()) Fd += v.segment(i * d, d) * P.G.row(i);
+  }
+}
+
+// ------------------------------------------------------------------ value templates
+// props = (E, nu, density, thickness, alpha, beta).
+template <class T>
+MatT<T> Solid::massT(const LocalState&, const VecT<T>& props) const {
+  const int d = dim_;
+  const T rt = props[2] * props[3];  // [kg/m^3] or [kg/m^2]
+  MatT<T> M = MatT<T>::Zero(n_ * d, n_ * d);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j)
+      for (int c = 0; c < d; ++c) M(i * d + c, j * d + c) = rt * massShape_(i, j);
+  return M;
+}
+
+template <class T>
+VecT<T> Solid::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const {
+  const int d = dim_;
+  if (s.dim != d) throw std::invalid_argument("solid element " + name() + ": needs positions of dimension " + std::to_string(d));
+  const T mu = material::mu(props[0], props[1]), lam = material::lambda(props[0], props[1]);
+  const T lamV = props_->law.planeStress() ? material::planeStressLambda(mu, lam) : lam;
+  const T rt = props[2] * props[3], t = props[3], alpha = props[4], beta = props[5];
+  const bool hasV = v.size() == x.size();
+  const VecX g = s.gravity ? VecX(*s.gravity) : VecX(VecX::Zero(d));
+  VecT<T> Q = VecT<T>::Zero(n_ * d);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j) {
+      VecT<T> a = (g * massShape_(i, j)).template cast<T>();
+      if (hasV) a -= (alpha * massShape_(i, j)) * v.segment(j * d, d);
+      Q.segment(i * d, d) += rt * a;
+    }
+  const MatT<T> I = MatT<T>::Identity(d, d);
+  const std::string who = "solid element " + name();
+  for (const Point& P : pts_) {
+    MatT<T> F = MatT<T>::Zero(d, d), Fd = MatT<T>::Zero(d, d);
+    for (int i = 0; i < n_; ++i) {
+      F += x.segment(i * d, d) * P.G.row(i).template cast<T>();
+      if (hasV) Fd += v.segment(i * d, d) * P.G.row(i).template cast<T>();
+    }
+    checkOrientation(material::plain(material::det(F)));
+    const MatT<T> E = 0.5 * (F.transpose() * F - I);
+    MatT<T> S = props_->law.stress(E, mu, lam, who);
+    if (hasV) {
+      const MatT<T> A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
+      S += beta * (lamV * Ed.trace() * I + 2.0 * mu * Ed);
+    }
+    const MatT<T> PK1 = F * S;
+    for (int i = 0; i < n_; ++i) Q.segment(i * d, d) -= (P.w * t) * (PK1 * P.G.row(i).transpose().template cast<T>());
+  }
+  return Q;
+}
+
+// ------------------------------------------------------------------ analytic derivatives
+void Solid::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  const int d = dim_, nd = n_ * d;
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu), lamV = lambdaRest(mu, lam);
+  const double t = props_->thickness.value(p), rt = props_->density.value(p) * t;
+  const double alpha = props_->alpha.value(p), beta = props_->beta.value(p);
+  dQdq.setZero(nd, nd);
+  dQdv.setZero(nd, nd);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j)
+      dQdv.block(i * d, j * d, d, d) -= (alpha * rt * massShape_(i, j)) * MatX::Identity(d, d);
+  const MatX I = MatX::Identity(d, d);
+  const std::string who = "solid element " + name();
+  MatX F, Fd;
+  for (const Point& P : pts_) {
+    kinematics(P, s.x, s.v, F, Fd);
+    checkOrientation(F.determinant());
+    const MatX E = 0.5 * (F.transpose() * F - I);
+    const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
+    const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
+    for (int j = 0; j < n_; ++j)
+      for (int c = 0; c < d; ++c) {
+        MatX dF = MatX::Zero(d, d);
+        dF.row(c) = P.G.row(j);
+        const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
+        const MatX Bd = dF.transpose() * Fd, dEd = 0.5 * (Bd + Bd.transpose());
+        const MatX dS = props_->law.tangent(E, mu, lam, dE) + beta * elasticity0(mu, lamV, dEd);
+        const MatX dP = dF * S + F * dS;                          // d(F S)/dx_jc
+        const MatX dPv = beta * F * elasticity0(mu, lamV, dE);    // d(F S)/dv_jc
+        for (int i = 0; i < n_; ++i) {
+          dQdq.block(i * d, j * d + c, d, 1) -= (P.w * t) * dP * P.G.row(i).transpose();
+          dQdv.block(i * d, j * d + c, d, 1) -= (P.w * t) * dPv * P.G.row(i).transpose();
+        }
+      }
+  }
+}
+
+bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  // Sums of the chain rule when several properties are bound to the same parameter.
+  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
+               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k), dBeta = props_->beta.boundTo(k);
+  if (!(dYoung || dNu || dRho || dT || dAlpha || dBeta)) return false;
+  const int d = dim_, nd = n_ * d;
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu), lamV = lambdaRest(mu, lam);
+  const double rho = props_->density.value(p), t = props_->thickness.value(p);
+  const double alpha = props_->alpha.value(p), beta = props_->beta.value(p);
+  double muE, muNu, lamE, lamNu;
+  material::lameDerivatives(E0, nu, muE, muNu, lamE, lamNu);
+  const double dmu = muE * dYoung + muNu * dNu, dlam = lamE * dYoung + lamNu * dNu;
+  double dlamV = dlam;
+  if (props_->law.planeStress()) {  // d(2 lambda mu / (lambda + 2 mu))
+    const double sum = lam + 2.0 * mu;
+    dlamV = (2.0 * lam * lam * dmu + 4.0 * mu * mu * dlam) / (sum * sum);
+  }
+  const double drt = dRho * t + rho * dT;
+  const bool hasV = s.v.size() == s.x.size();
+  const VecX g = s.gravity ? VecX(*s.gravity) : VecX(VecX::Zero(d));
+  dQ.setZero(nd);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j) {
+      dQ.segment(i * d, d) += (drt * massShape_(i, j)) * g;
+      if (hasV) dQ.segment(i * d, d) -= ((drt * alpha + rho * t * dAlpha) * massShape_(i, j)) * s.v.segment(j * d, d);
+    }
+  const MatX I = MatX::Identity(d, d);
+  const std::string who = "solid element " + name();
+  MatX F, Fd, dSmu, dSlam;
+  for (const Point& P : pts_) {
+    kinematics(P, s.x, s.v, F, Fd);
+    checkOrientation(F.determinant());
+    const MatX E = 0.5 * (F.transpose() * F - I);
+    const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
+    const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
+    props_->law.stressDerivatives(E, mu, lam, dSmu, dSlam);
+    const MatX dS = dSmu * dmu + dSlam * dlam + dBeta * elasticity0(mu, lamV, Ed) +
+                    beta * (dlamV * Ed.trace() * I + 2.0 * dmu * Ed);
+    const MatX dP = dT * F * S + t * F * dS;  // d(t F S)
+    for (int i = 0; i < n_; ++i) dQ.segment(i * d, d) -= P.w * dP * P.G.row(i).transpose();
+  }
+  dM.setZero(nd, nd);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j)
+      for (int c = 0; c < d; ++c) dM(i * d + c, j * d + c) = drt * massShape_(i, j);
+  return true;
+}
+
+double Solid::potential(const LocalState& s) const {
+  const int d = dim_;
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
+  const double t = props_->thickness.value(p), rt = props_->density.value(p) * t;
+  double U = 0.0;
+  MatX F, Fd;
+  const VecX none;
+  for (const Point& P : pts_) {
+    kinematics(P, s.x, none, F, Fd);
+    checkOrientation(F.determinant());
+    U += P.w * t * props_->law.energy(0.5 * (F.transpose() * F - MatX::Identity(d, d)), mu, lam);
+  }
+  if (s.gravity)  // minus the work of gravity, -G^T M x [J]
+    for (int i = 0; i < n_; ++i)
+      for (int j = 0; j < n_; ++j) U -= rt * massShape_(i, j) * s.gravity->dot(s.x.segment(i * d, d));
+  return U;
+}
+
+void Solid::centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const {
+  const int d = dim_;
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
+  const MatX& G = centroidG_;
+  MatX F = MatX::Zero(d, d);
+  for (int i = 0; i < n_; ++i) F += s.x.segment(i * d, d) * G.row(i);
+  const MatX I = MatX::Identity(d, d);
+  E = 0.5 * (F.transpose() * F - I);
+  S = props_->law.stress<double>(E, mu, lam, "solid element " + name());
+  const double J = F.determinant();
+  sigma = F * S * F.transpose() / J;
+  double s33 = 0.0;  // out-of-plane Cauchy stress: plane strain (F33 = 1)
+  if (props_->law.planar == PlanarState::PlaneStrain)
+    s33 = (props_->law.law == Law::SaintVenantKirchhoff ? lam * E.trace() : lam * std::log(J)) / J;
+  MatX full = MatX::Zero(3, 3);
+  full.topLeftCorner(d, d) = sigma;
+  if (d == 2) full(2, 2) = s33;
+  const MatX dev = full - full.trace() / 3.0 * MatX::Identity(3, 3);
+  vonMises = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+}
+
+template class KernelElement<Solid>;
+
+}  // namespace flexsens

@@ -1,0 +1,99 @@
+// Total-Lagrangian continuum elements in absolute nodal coordinates (positions only): planar
+// triangles (3 or 6 nodes; plane stress with a thickness, or plane strain per unit of the
+// thickness) and spatial tetrahedra (4 or 10 nodes), isoparametric, with the laws of
+// elements/Material.hpp (St. Venant-Kirchhoff, compressible neo-Hookean).
+//
+// Q = M G  -  sum_gp w t F S G_i  -  alpha M v
+//   F = sum_i x_i (dN_i/dX)^T, S = S(E) + beta C0 : dE/dt (Kelvin-Voigt), E = (F^T F - I)/2
+// where w is the quadrature weight times |det dX/dxi| (rest area or volume), t the thickness
+// (1 in 3D), G the gravity on every node. Damping (both optional, default 0):
+//   alpha [1/s]: mass-proportional, Q = -alpha M v (damps rigid motion too);
+//   beta  [s]:  stiffness-proportional in the Kelvin-Voigt form: viscous stress beta C0 : Edot,
+//               C0 the linear (rest) elasticity tensor, Edot = sym(F^T Fdot). It equals
+//               beta K0 v at small strain, but is zero for any rigid motion (frame-indifferent),
+//               where beta K0 v would damp a rotating body.
+// Mass: consistent and constant, M = rho t int N_i N_j dX (x) I, integrated exactly for curved
+// quadratic elements (elements/SimplexShape.hpp massRule).
+// Design parameters: E, nu, density, thickness (planar only), alpha, beta.
+//
+// Units: E [Pa], nu [-], density [kg/m^3], thickness [m], positions [m], forces [N],
+// energies [J]; alpha [1/s], beta [s].
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "elements/KernelElement.hpp"
+#include "elements/Material.hpp"
+#include "elements/SimplexShape.hpp"
+
+namespace flexsens {
+
+/// Material, thickness and damping of one meshed body, shared by its elements.
+struct SolidProperties {
+  Quantity E;                 ///< Young's modulus [Pa]
+  Quantity nu;                ///< Poisson's ratio [-], in (-1, 0.5)
+  Quantity density;           ///< [kg/m^3]
+  Quantity thickness{1.0, -1};  ///< [m], planar bodies only (1 and no property in 3D)
+  Quantity alpha{0.0, -1};    ///< mass-proportional damping [1/s]
+  Quantity beta{0.0, -1};     ///< stiffness-proportional (Kelvin-Voigt) damping [s]
+  MaterialLaw law;
+  int dim = 2;
+  std::vector<std::pair<std::string, Quantity*>> properties();
+};
+
+class Solid : public KernelElement<Solid> {
+ public:
+  /// restX: rest positions of the nodes, dim x nodes (VTK node order). Throws
+  /// std::invalid_argument when det(dX/dxi) is not positive at a quadrature point (a
+  /// degenerate element, or inverted: clockwise triangle, negatively oriented tetrahedron,
+  /// misplaced midside node).
+  Solid(std::string name, std::vector<int> nodes, std::shared_ptr<SolidProperties> props, Simplex shape,
+        const MatX& restX);
+  std::string kind() const override { return "solid"; }
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
+
+  Simplex shape() const { return shape_; }
+  /// int N_i N_j dX [m^2 or m^3] (mass = rho t massShape (x) I).
+  const MatX& massShape() const { return massShape_; }
+  /// At the element's centroid: Green-Lagrange strain E [-], second Piola-Kirchhoff S [Pa],
+  /// Cauchy stress sigma [Pa] (dim x dim, elastic part) and von Mises stress [Pa] (with the
+  /// out-of-plane normal stress of plane strain).
+  void centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const;
+
+ private:
+  friend class KernelElement<Solid>;
+  struct Point {
+    MatX G;    ///< dN_i/dX, nodes x dim [1/m]
+    double w;  ///< weight times rest measure [m^2 or m^3]
+  };
+  /// Per-point kinematics (double): F, E, Fd at state s.
+  void kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const;
+  MatX elasticity0(double mu, double lamV, const MatX& A) const;  ///< C0 : A
+  double lambdaRest(double mu, double lam) const;                 ///< lambda of C0
+  /// Neo-Hookean: NumericalError naming the element when det F <= 0 (det C cannot tell).
+  void checkOrientation(double detF) const;
+
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha, &props_->beta};
+  }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  static constexpr bool hasMassKernel = true;
+  template <class T>
+  MatT<T> massT(const LocalState& s, const VecT<T>& props) const;
+
+  std::shared_ptr<SolidProperties> props_;
+  Simplex shape_;
+  int dim_, n_;
+  std::vector<Point> pts_;
+  MatX massShape_;
+  MatX centroidG_;  ///< dN_i/dX at the centroid (output)
+};
+
+}  // namespace flexsens

@@ -1,0 +1,244 @@
+// Gmsh geometry or mesh -> one meshed body; see GmshMesh.hpp.
+#include "meshes/GmshMesh.hpp"
+
+#include <gmsh.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <unordered_map>
+
+#include "meshes/GmshCurves.hpp"
+#include "meshes/GmshSession.hpp"
+
+namespace flexsens {
+
+namespace {
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// Our shape for a Gmsh element type, false for any other type.
+bool shapeOfGmshType(int type, Simplex& s) {
+  switch (type) {
+    case 2: s = Simplex::Tri3; return true;
+    case 9: s = Simplex::Tri6; return true;
+    case 4: s = Simplex::Tet4; return true;
+    case 11: s = Simplex::Tet10; return true;
+    default: return false;
+  }
+}
+
+/// perm[k] = Gmsh local index of our (VTK-order) node k, from Gmsh's reference coordinates.
+std::vector<int> gmshToVtk(int type, Simplex s) {
+  std::string name;
+  int dim, order, numNodes, primary;
+  std::vector<double> local;
+  gmsh::model::mesh::getElementProperties(type, name, dim, order, numNodes, local, primary);
+  const int n = simplexNodes(s);
+  std::vector<int> perm(n, -1);
+  for (int k = 0; k < n; ++k) {
+    const VecX ref = simplexNode(s, k);
+    for (int g = 0; g < numNodes; ++g) {
+      double dist = 0.0;
+      for (int c = 0; c < dim; ++c) dist += std::abs(local[g * dim + c] - ref[c]);
+      if (dist < 1e-9) perm[k] = g;
+    }
+    if (perm[k] < 0) throw std::logic_error("Gmsh element type " + name + ": no node at reference node " + std::to_string(k));
+  }
+  return perm;
+}
+
+std::string gmshTypeName(int type) {
+  std::string name;
+  int dim, order, numNodes, primary;
+  std::vector<double> local;
+  gmsh::model::mesh::getElementProperties(type, name, dim, order, numNodes, local, primary);
+  return name;
+}
+
+}  // namespace
+
+BodyMesh meshBody(const BodyMeshRequest& req, const std::string& where) {
+  auto fail = [&](const std::string& what) { return InputError(where + ": " + what); };
+  const std::string& file = req.file;
+  const bool isMsh = endsWith(file, ".msh");
+  {
+    std::error_code ec;
+    const auto st = std::filesystem::status(file, ec);
+    std::ifstream in(file);
+    if (ec || !std::filesystem::exists(st) || !in)
+      throw fail("cannot open the mesh file '" + file + "' (does it exist and is it readable?)");
+    if (!std::filesystem::is_regular_file(st)) throw fail("the mesh file '" + file + "' is not a regular file");
+    const auto size = std::filesystem::file_size(file, ec);
+    if (ec || size > kMaxGeometryBytes)
+      throw fail("the mesh file '" + file + "' has " + std::to_string(size) + " bytes; expected at most " +
+                 std::to_string(kMaxGeometryBytes) + " (64 MiB)");
+  }
+  const std::string groupKind = req.dim == 2 ? "Physical Surface" : "Physical Volume";
+
+  std::lock_guard<std::mutex> lock(gmshMutex());
+  if (gmshInitialized())
+    throw std::logic_error(where + ": Gmsh is already initialized by someone else; meshBody starts and finalizes its own session");
+  GmshSession session;
+  BodyMesh out;
+  try {
+    gmsh::logger::start();
+    gmsh::open(file);
+    {
+      std::string err;
+      gmsh::logger::getLastError(err);
+      if (!err.empty()) throw fail("Gmsh cannot read '" + file + "': " + err);
+    }
+    // --- the body's group ------------------------------------------------------------------
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups);
+    int bodyTag = -1;
+    std::string avail;
+    for (const auto& [dim, tag] : groups) {
+      if (dim != req.dim) continue;
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      avail += (avail.empty() ? "" : ", ") + name;
+      if (name == req.group) bodyTag = tag;
+    }
+    if (bodyTag < 0)
+      throw InputError(req.groupWhere + ": " + "no " + groupKind + " '" + req.group + "' in '" + file + "'; available: " + (avail.empty() ? "(none)" : avail));
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(req.dim, bodyTag, entities);
+
+    // --- mesh (.geo) ---------------------------------------------------------------------
+    if (!isMsh) {
+      if (req.size > 0) {
+        double measure = 0.0;
+        for (int e : entities) {
+          double x0, y0, z0, x1, y1, z1;
+          gmsh::model::getBoundingBox(req.dim, e, x0, y0, z0, x1, y1, z1);
+          const double ex = x1 - x0, ey = y1 - y0, ez = z1 - z0;
+          measure += req.dim == 2 ? std::max({ex * ey, ex * ez, ey * ez}) : ex * ey * ez;
+        }
+        const double estimate = measure / std::pow(req.size, req.dim);
+        if (!(estimate <= kMaxMeshCellsEstimate))
+          throw InputError(req.sizeWhere + ": " + "element size " + fmtNumber(req.size) + " m would give about " + fmtNumber(estimate) +
+                     " cells of size^" + std::to_string(req.dim) + " in the bounding box of '" + req.group +
+                     "'; expected at most " + fmtNumber(kMaxMeshCellsEstimate) + " (kMaxMeshCellsEstimate): a larger size");
+        gmsh::option::setNumber("Mesh.MeshSizeMax", req.size);
+      }
+      gmsh::model::mesh::generate(req.dim);
+      if (req.order == 2) gmsh::model::mesh::setOrder(2);
+      std::string err;
+      gmsh::logger::getLastError(err);
+      if (!err.empty()) throw fail("Gmsh cannot mesh '" + file + "': " + err);
+    }
+
+    // --- nodes of the whole model --------------------------------------------------------
+    std::unordered_map<std::size_t, Eigen::Vector3d> xyz;
+    {
+      std::vector<std::size_t> tags;
+      std::vector<double> coord, param;
+      gmsh::model::mesh::getNodes(tags, coord, param, -1, -1, true, false);
+      for (std::size_t i = 0; i < tags.size(); ++i) xyz[tags[i]] = {coord[3 * i], coord[3 * i + 1], coord[3 * i + 2]};
+    }
+    std::unordered_map<std::size_t, int> index;  // Gmsh tag -> body node
+    auto nodeOf = [&](std::size_t tag) {
+      auto [it, fresh] = index.emplace(tag, static_cast<int>(out.positions.size()));
+      if (fresh) {
+        out.positions.push_back(xyz.at(tag));
+        out.gmshTags.push_back(tag);
+      }
+      return it->second;
+    };
+
+    // --- the body's elements -------------------------------------------------------------
+    bool haveShape = false;
+    for (int e : entities) {
+      std::vector<int> types;
+      std::vector<std::vector<std::size_t>> elTags, nodeTags;
+      gmsh::model::mesh::getElements(types, elTags, nodeTags, req.dim, e);
+      for (std::size_t k = 0; k < types.size(); ++k) {
+        Simplex s;
+        if (!shapeOfGmshType(types[k], s) || simplexDim(s) != req.dim)
+          throw fail(groupKind + " '" + req.group + "' holds elements of type " + gmshTypeName(types[k]) + "; expected " +
+                     (req.dim == 2 ? "triangles (3 or 6 nodes; no Recombine)" : "tetrahedra (4 or 10 nodes)"));
+        if (haveShape && s != out.shape)
+          throw fail(groupKind + " '" + req.group + "' mixes " + simplexName(out.shape) + " and " + simplexName(s) +
+                     " elements; expected one element type");
+        out.shape = s;
+        haveShape = true;
+        const std::vector<int> perm = gmshToVtk(types[k], s);
+        const int n = simplexNodes(s);
+        for (std::size_t c = 0; c * n < nodeTags[k].size(); ++c) {
+          std::vector<int> cell(n);
+          for (int j = 0; j < n; ++j) cell[j] = nodeOf(nodeTags[k][c * n + perm[j]]);
+          out.cells.push_back(cell);
+        }
+      }
+    }
+    if (out.cells.empty()) throw fail(groupKind + " '" + req.group + "' has no elements in '" + file + "'");
+    if (static_cast<int>(out.positions.size()) > kMaxMeshNodes)
+      throw fail(groupKind + " '" + req.group + "' has " + std::to_string(out.positions.size()) +
+                 " nodes; expected at most " + std::to_string(kMaxMeshNodes) + " (kMaxMeshNodes): a larger size");
+    // Free nodes: nodes classified on the body's entities that no element uses.
+    for (int e : entities) {
+      std::vector<std::size_t> tags;
+      std::vector<double> coord, param;
+      gmsh::model::mesh::getNodes(tags, coord, param, req.dim, e, false, false);
+      for (std::size_t i = 0; i < tags.size(); ++i)
+        if (!index.count(tags[i]))
+          throw fail("node " + std::to_string(tags[i]) + " at (" + fmtNumber(coord[3 * i]) + ", " +
+                     fmtNumber(coord[3 * i + 1]) + ", " + fmtNumber(coord[3 * i + 2]) + ") of " + groupKind +
+                     " '" + req.group + "' belongs to no element (a free node: no mass, no stiffness); expected every node in an element");
+    }
+
+    // --- named points, node groups and their facets ----------------------------------------
+    for (const auto& [dim, tag] : groups) {
+      if (dim >= req.dim) continue;
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      if (name.empty()) continue;
+      std::vector<std::size_t> tags;
+      std::vector<double> coord;
+      gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, tags, coord);
+      std::vector<int> nodes;
+      for (std::size_t t : tags)
+        if (index.count(t)) nodes.push_back(index[t]);
+      if (nodes.empty()) continue;  // not on this body
+      if (dim == 0) {
+        if (tags.size() != 1) throw fail("Physical Point '" + name + "' holds " + std::to_string(tags.size()) + " nodes; expected one");
+        out.points[name] = nodes[0];
+        continue;
+      }
+      out.groups[name] = nodes;
+      if (dim != req.dim - 1) continue;
+      std::vector<int> ents;
+      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, ents);
+      auto& facets = out.facets[name];
+      for (int e : ents) {
+        std::vector<int> types;
+        std::vector<std::vector<std::size_t>> elTags, nodeTags;
+        gmsh::model::mesh::getElements(types, elTags, nodeTags, dim, e);
+        for (std::size_t k = 0; k < types.size(); ++k) {
+          std::string tn;
+          int d, order, numNodes, primary;
+          std::vector<double> local;
+          gmsh::model::mesh::getElementProperties(types[k], tn, d, order, numNodes, local, primary);
+          for (std::size_t c = 0; (c + 1) * numNodes <= nodeTags[k].size(); ++c) {
+            std::vector<int> f;
+            for (int j = 0; j < numNodes; ++j) {
+              auto it = index.find(nodeTags[k][c * numNodes + j]);
+              if (it != index.end()) f.push_back(it->second);
+            }
+            if (static_cast<int>(f.size()) == numNodes) facets.push_back(f);
+          }
+        }
+      }
+    }
+  } catch (const std::string& gmshError) {  // Gmsh 4.8 throws its error text as std::string
+    throw fail("Gmsh error with '" + file + "': " + gmshError);
+  }
+  return out;
+}
+
+}  // namespace flexsens
