@@ -15,6 +15,7 @@
 #include "app/Run.hpp"
 #include "constraints/Driver.hpp"
 #include "core/TimeFunction.hpp"
+#include "elements/PlanarFollowerForce.hpp"
 #include "elements/PlanarTorque.hpp"
 #include "elements/PointForce.hpp"
 #include "integrators/InitialState.hpp"
@@ -389,4 +390,53 @@ TEST(Driver, MotorReactionAndItsSensitivityInSeriesCsv) {
   const std::string summary((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
   EXPECT_NE(summary.find("\"judged\": false"), std::string::npos);
   EXPECT_NE(summary.find("\"status\": \"complete\""), std::string::npos);
+}
+
+TEST(FollowerForce, TurnsWithTheBodyAndItsJacobianMatchesFiniteDifferences) {
+  auto f = makeHarmonic(0.5, 3.0, 0.1, 1.0);
+  VecX p = bindAll(*f);  // amplitude, omega, phase, offset: parameters 0..3
+  p.conservativeResize(6);
+  p[4] = 2.0;   // F0_x [N]
+  p[5] = -1.5;  // F0_y [N]
+  const VecX d0 = Eigen::Vector2d(0.8, 0.3);
+  PlanarFollowerForce ff("ff", 0, 1, 2, d0, {Quantity{2.0, 4}, Quantity{-1.5, 5}}, std::move(f));
+  LocalState s;
+  s.dim = 2;
+  s.v = VecX::Zero(6);
+  s.p = &p;
+  s.t = 0.3;
+  const double fac = 1.0 + 0.5 * std::sin(3.0 * 0.3 + 0.1);
+  // At the initial configuration the force is F0 f(t); turned by 90 degrees it is R90 F0 f(t).
+  s.x = (VecX(6) << 0.4, 0.2, 0.1, -0.1, 0.1 + d0[0], -0.1 + d0[1]).finished();
+  VecX Q;
+  ff.force(s, Q);
+  EXPECT_NEAR(Q[0], 2.0 * fac, 1e-14);
+  EXPECT_NEAR(Q[1], -1.5 * fac, 1e-14);
+  s.x.segment<2>(4) = s.x.segment<2>(2) + Eigen::Vector2d(-d0[1], d0[0]);
+  ff.force(s, Q);
+  EXPECT_NEAR(Q[0], 1.5 * fac, 1e-14);
+  EXPECT_NEAR(Q[1], 2.0 * fac, 1e-14);
+  // A general configuration: dQ/dq and dQ/dp against central differences.
+  s.x = (VecX(6) << 0.4, 0.2, -0.3, 0.5, 0.6, -0.2).finished();
+  auto Qat = [&](const VecX& x, const VecX& pp) {
+    LocalState l = s;
+    l.x = x;
+    l.p = &pp;
+    VecX r;
+    ff.force(l, r);
+    return r;
+  };
+  MatX K, C;
+  ff.forceJacobian(s, K, C);
+  EXPECT_GT(K.norm(), 0.0);
+  EXPECT_LT(relErr(K, fdJacobian([&](const VecX& x) { return Qat(x, p); }, s.x)), 1e-8);
+  for (int k = 0; k < 6; ++k) {
+    VecX dQ;
+    MatX dM;
+    ASSERT_TRUE(ff.parameterDerivative(s, k, dQ, dM)) << k;
+    VecX pp = p, pm = p;
+    pp[k] += 1e-6;
+    pm[k] -= 1e-6;
+    EXPECT_LT(relErr(dQ, (Qat(s.x, pp) - Qat(s.x, pm)) / 2e-6), 1e-7) << k;
+  }
 }
