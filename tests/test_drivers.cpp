@@ -440,3 +440,39 @@ TEST(FollowerForce, TurnsWithTheBodyAndItsJacobianMatchesFiniteDifferences) {
     EXPECT_LT(relErr(dQ, (Qat(s.x, pp) - Qat(s.x, pm)) / 2e-6), 1e-7) << k;
   }
 }
+
+TEST(Driver, PrescribedCoordinateMovesABarAndItsReactionBalancesTheInertia) {
+  // A uniform bar (1 kg, 1 m) pinned at O, no gravity; its tip's y follows 0.3 sin(2t), so
+  // theta = asin(y) and the driver's vertical force F on the tip satisfies I_O theta'' = F x_T.
+  const char* text = R"(
+dimension: 2
+gravity: [0, 0]
+nodes:
+  - {name: O, position: [0, 0], ground: true}
+  - {name: T, position: [1, 0]}
+elements:
+  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 1.0}
+constraints:
+  - {name: lift, type: prescribed_coordinate, node: T, axis: y, function: {type: harmonic, amplitude: 0.3, omega: 2}}
+integrator: {type: idas, t_end: 1}
+)";
+  auto theta = [](double t) { return std::asin(0.3 * std::sin(2 * t)); };
+  for (const std::string type : {"idas", "bdf1"}) {
+    Scene sc = readSceneText(text, "lift.yaml");
+    sc.integrator = integratorSettings(type, type == "idas" ? 1e-10 : 1e-3, 1.0);
+    sc.integrator.frameInterval = 0.5;
+    Assembler as(*sc.model);
+    const VecX p = sc.model->nominalParameters();
+    Frames fr;
+    integrate(as, p, initialState(as, p), sc.integrator, fr);
+    for (const auto& s : fr.f) {
+      const double t = s.x.t, y = 0.3 * std::sin(2 * t);
+      EXPECT_NEAR(s.x.q[1], y, 1e-9) << type << " t = " << t;
+      EXPECT_NEAR(s.x.q[0], std::sqrt(1 - y * y), 1e-9) << type << " t = " << t;
+      if (type != "idas") continue;
+      // The driver's force on the tip is -lambda (row 1: the bar's own length is row 0).
+      const double h = 1e-4, thdd = (theta(t + h) - 2 * theta(t) + theta(t - h)) / (h * h);
+      EXPECT_NEAR(-s.x.lambda[1], thdd / 3.0 / std::sqrt(1 - y * y), 1e-5) << t;
+    }
+  }
+}
