@@ -55,6 +55,24 @@ bool SelectedRows::parameterDerivativeAD(const LocalState& s, int k, VecX& dphi,
   return true;
 }
 
+void SelectedRows::timeDerivatives(const LocalState& s, VecX& phiT, MatX& phiQT, VecX& g, MatX& dgdq) const {
+  VecX a, c;
+  MatX b, d;
+  inner_->timeDerivatives(s, a, b, c, d);
+  if (a.size()) phiT = pick(a);
+  if (b.rows()) phiQT = pickRows(b);
+  if (c.size()) g = pick(c);
+  if (d.rows()) dgdq = pickRows(d);
+}
+
+bool SelectedRows::timeParameterDerivative(const LocalState& s, int k, VecX& phiTp, VecX& gp) const {
+  VecX a, b;
+  if (!inner_->timeParameterDerivative(s, k, a, b)) return false;
+  if (a.size()) phiTp = pick(a);
+  if (b.size()) gp = pick(b);
+  return true;
+}
+
 double SelectedRows::leftOutViolation(const LocalState& s) const {
   VecX all;
   inner_->phi(s, all);

@@ -26,6 +26,9 @@ class SelectedRows : public Constraint {
   void hessianAD(const LocalState& s, int r, MatX& H) const override { inner_->hessianAD(s, keep_[r], H); }
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return inner_->properties(); }
+  bool rheonomic() const override { return inner_->rheonomic(); }
+  void timeDerivatives(const LocalState& s, VecX& phiT, MatX& phiQT, VecX& g, MatX& dgdq) const override;
+  bool timeParameterDerivative(const LocalState& s, int k, VecX& phiTp, VecX& gp) const override;
 
   const Constraint& full() const { return *inner_; }
   const std::vector<int>& kept() const { return keep_; }

@@ -7,8 +7,9 @@
 
 namespace flexsens {
 
-PointForce::PointForce(std::string name, int node, std::vector<Quantity> components)
-    : KernelElement(std::move(name), {node}), F_(std::move(components)) {
+PointForce::PointForce(std::string name, int node, std::vector<Quantity> components,
+                       std::unique_ptr<TimeFunction> f)
+    : KernelElement(std::move(name), {node}), F_(std::move(components)), f_(std::move(f)) {
   if (F_.size() != 2 && F_.size() != 3) {
     std::ostringstream os;
     os << "point force '" << this->name() << "': expected 2 (planar) or 3 (spatial) components, got "
@@ -38,13 +39,21 @@ VecT<T> PointForce::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
                            const VecT<T>& props) const {
   checkDim(s);
   VecT<T> Q(s.dim);
-  for (int c = 0; c < s.dim; ++c) Q[c] = props[c];
+  const double f = factor(s);
+  for (int c = 0; c < s.dim; ++c) Q[c] = props[c] * f;
   return Q;
 }
 
 bool PointForce::parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   checkDim(s);  // also when no component is bound to k
-  return KernelElement::parameterDerivativeAD(s, k, dQ, dM);
+  // AD through the components; the time function's constants (F df/dp_k) are analytic.
+  const bool comp = KernelElement::parameterDerivativeAD(s, k, dQ, dM);
+  TimeValue d;
+  if (!f_ || !f_->parameterDerivative(s.t, *s.p, k, d)) return comp;
+  if (!comp) dQ.setZero(s.dim);
+  for (int c = 0; c < s.dim; ++c) dQ[c] += s.value(F_[c]) * d.f;
+  dM.resize(0, 0);  // massless
+  return true;
 }
 
 void PointForce::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -57,17 +66,23 @@ bool PointForce::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX&
   checkDim(s);
   bool dep = false;
   for (const auto& f : F_) dep = dep || f.boundTo(k);
-  if (!dep) return false;
-  // Q is linear in its components: dQ/dp_k is the sum of the unit vectors bound to k.
+  TimeValue d;
+  const bool fn = f_ && f_->parameterDerivative(s.t, *s.p, k, d);
+  if (!dep && !fn) return false;
+  // Q = F f(t) is linear in its components: dQ/dp_k = f (units bound to k) + F df/dp_k.
   dQ.setZero(s.dim);
-  for (int c = 0; c < s.dim; ++c)
-    if (F_[c].boundTo(k)) dQ[c] = 1.0;
+  const double f = factor(s);
+  for (int c = 0; c < s.dim; ++c) {
+    if (F_[c].boundTo(k)) dQ[c] = f;
+    if (fn) dQ[c] += s.value(F_[c]) * d.f;
+  }
   dM.setZero(s.dim, s.dim);  // massless
   return true;
 }
 
 double PointForce::potential(const LocalState& s) const {
   checkDim(s);
+  if (f_) return 0.0;  // varying in time: no potential (external work)
   double U = 0.0;
   for (int c = 0; c < s.dim; ++c) U -= s.value(F_[c]) * s.x[c];
   return U;  // [J]
@@ -77,6 +92,8 @@ std::vector<std::pair<std::string, Quantity*>> PointForce::properties() {
   static const char* names[] = {"x", "y", "z"};
   std::vector<std::pair<std::string, Quantity*>> r;
   for (size_t c = 0; c < F_.size(); ++c) r.emplace_back(names[c], &F_[c]);
+  if (f_)
+    for (auto& pr : f_->properties()) r.push_back(pr);
   return r;
 }
 

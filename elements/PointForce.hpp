@@ -1,14 +1,19 @@
-// Constant (dead) point force on one node: Q = F, independent of q and v, so dQ/dq = 0 and
-// dQ/dv = 0. Each component is a Quantity, so any of them may be a design parameter
-// (for instance a tip load that a static solver steps through p).
+// Point force on one node: Q = F f(t), independent of q and v, so dQ/dq = 0 and dQ/dv = 0.
+// Each component is a Quantity, so any of them may be a design parameter (for instance a tip
+// load that a static solver steps through p); so are the constants of the optional time
+// function f (core/TimeFunction.hpp; without one, f = 1: a dead load).
 //
-// Units: force components [N]; positions [m]; potential energy U = -F . x [J].
+// Units: force components [N]; f [-]; positions [m]; potential energy U = -F . x [J] for a
+// dead load; a load varying in time has none (it does external work: externalWork()).
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <memory>
+
+#include "core/TimeFunction.hpp"
 #include "elements/KernelElement.hpp"
 
 namespace flexsens {
@@ -16,9 +21,11 @@ namespace flexsens {
 class PointForce : public KernelElement<PointForce> {
  public:
   /// components: dim entries [N] (2 planar, 3 spatial), in the order of the node's coordinates.
-  PointForce(std::string name, int node, std::vector<Quantity> components);
+  PointForce(std::string name, int node, std::vector<Quantity> components,
+             std::unique_ptr<TimeFunction> f = nullptr);
   std::string kind() const override { return "point_force"; }
   bool isLoad() const override { return true; }
+  bool externalWork() const override { return f_ != nullptr; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
@@ -34,7 +41,9 @@ class PointForce : public KernelElement<PointForce> {
   std::vector<const Quantity*> kernelProperties() const;
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  double factor(const LocalState& s) const { return f_ ? f_->at(s.t, *s.p).f : 1.0; }
   std::vector<Quantity> F_;  ///< [N]
+  std::unique_ptr<TimeFunction> f_;  ///< null: constant
 };
 
 }  // namespace flexsens

@@ -206,7 +206,7 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
       const double global = (A.cwiseAbs() * d.q.cwiseAbs() + b.cwiseAbs()).maxCoeff();
       checkDroppedRows(c, m, lam, sel, k, Ld * d.q + lp, scale, global, "position (q_p0)");
     }
-    b.head(as.m()) = -(as.hessianRowsTimes(s.q, p, s.v, d.q) + as.phiQParamDerivativeTimes(s.q, p, k, s.v));
+    b.head(as.m()) = velocitySensitivityRhs(as, s.q, s.v, p, k, d.q);
     VecX lamV;
     if (lam.m()) {
       lamV = lam.hessianRowsTimes(s.q, p, s.v, d.q) + lam.phiQParamDerivativeTimes(s.q, p, k, s.v);

@@ -187,7 +187,9 @@ def judge(exe, path, limit, do_run, work):
             return f"{mode}:exit3", err[-2000:]
         if code == 1 and not any(LOCATED.match(l) and os.path.basename(path) in l for l in err.splitlines()):
             return f"{mode}:unlocated", err[-2000:]
-        if code not in (0, 1, 2):
+        # exit 5: the run finished but its energy audit marks it suspect (a mutant with a huge
+        # step, say): an honest verdict, not a failure of the program.
+        if code not in (0, 1, 2) and not (mode == "run" and code == 5):
             return f"{mode}:exit{code}", err[-2000:]
         if mode == "run" and code == 0:
             bad = outputs_finite(os.path.join(work, "out"))

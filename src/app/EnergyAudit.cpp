@@ -34,7 +34,9 @@ double EnergyAudit::scale() const {
   return std::max({tMax_, vMax_ - vMin_, floor});
 }
 
-bool EnergyAudit::suspect() const { return tolerance_ > 0 && maxRise_ > tolerance_ * scale(); }
+bool EnergyAudit::suspect() const {
+  return notJudged_.empty() && tolerance_ > 0 && maxRise_ > tolerance_ * scale();
+}
 
 std::string EnergyAudit::reason() const {
   if (!suspect()) return "";
@@ -52,7 +54,9 @@ std::string EnergyAudit::json() const {
   os << "{\"initial_J\": " << jsonNumber(e0_) << ", \"final_J\": " << jsonNumber(eLast_)
      << ", \"max_rise_J\": " << jsonNumber(maxRise_) << ", \"max_rise_t\": " << jsonNumber(tRise_)
      << ", \"scale_J\": " << jsonNumber(scale()) << ", \"tolerance\": " << jsonNumber(tolerance_)
-     << ", \"suspect\": " << (suspect() ? "true" : "false") << "}";
+     << ", \"suspect\": " << (suspect() ? "true" : "false") << ", \"judged\": " << (notJudged_.empty() ? "true" : "false");
+  if (!notJudged_.empty()) os << ", \"not_judged\": " << jsonString(notJudged_);
+  os << "}";
   return os.str();
 }
 

@@ -5,6 +5,9 @@
 // `tolerance` times the energy scale (the largest kinetic energy or potential swing of the run)
 // marks the run `suspect`: the N-four-bar that flips its crank every frame past a singular
 // configuration gains energy by orders of magnitude while |Phi| stays at round-off.
+// A model with drivers (rheonomic constraints) or loads that do external work (varying in
+// time, torques) is not passive: the audit then records the energy but does not judge
+// (never `suspect`), and its json says why (`"judged": false, "not_judged": ...`).
 #pragma once
 
 #include <string>
@@ -23,6 +26,8 @@ class EnergyAudit : public Observer {
   void progress(double t) override { next_.progress(t); }
   void reached(const IntegratorStats& st) override { next_.reached(st); }
 
+  /// The run is not passive (drivers, external work): record, do not judge. `why` in words.
+  void notJudged(std::string why) { notJudged_ = std::move(why); }
   bool suspect() const;
   /// Plain words: the largest rise, when and against which scale; empty when not suspect.
   std::string reason() const;
@@ -34,6 +39,7 @@ class EnergyAudit : public Observer {
   const EnergyMeter& meter_;
   Observer& next_;
   double tolerance_;
+  std::string notJudged_;
   bool started_ = false;
   double e0_ = 0, eLast_ = 0, maxRise_ = 0, tRise_ = 0, tLast_ = 0;
   double tMax_ = 0, vMin_ = 0, vMax_ = 0;  ///< largest kinetic energy, potential range [J]

@@ -57,6 +57,7 @@ IntegratorStats integrateFiniteDifferences(const Assembler& as, const VecX& p0,
       p[k] += sgn * h;
       StateWithSens s;
       s.x.t = start.x.t;
+      as.setTime(s.x.t);  // the nominal run left the assembler at t_end
       s.x.q = pim ? perturbedConfiguration(as, *pim, start.x.q, p0, p, k) : projectPositions(as, start.x.q, p);
       s.x.v = projectVelocities(as, s.x.q, start.x.v + sgn * h * start.dp[k].v, p);
       equilibrateMassless(as, s.x, p);

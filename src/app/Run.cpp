@@ -78,6 +78,7 @@ State consistentState(const Assembler& as, const VecX& p) {
   const Model& m = as.model();
   State s;
   s.t = 0.0;
+  as.setTime(s.t);
   s.q = projectPositions(as, m.initialPositions(), p);
   s.v = projectVelocities(as, s.q, m.initialVelocities(), p);
   equilibrateMassless(as, s, p);  // parts with inertia: none (no-op otherwise)
@@ -105,8 +106,7 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
     const int kk = static_cast<int>(k);
     if (as.m()) {
       d.q = cod.solve(VecX(-as.phiParamDerivative(s.x.q, p, kk)));
-      d.v = cod.solve(VecX(-(as.hessianRowsTimes(s.x.q, p, s.x.v, d.q) +
-                             as.phiQParamDerivativeTimes(s.x.q, p, kk, s.x.v))));
+      d.v = cod.solve(velocitySensitivityRhs(as, s.x.q, s.x.v, p, kk, d.q));
     } else {
       d.q = VecX::Zero(as.n());
       d.v = VecX::Zero(as.n());
@@ -224,8 +224,9 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   const VecX v0 = m.initialVelocities();
   const double dv = m.n ? (start.x.v - v0).lpNorm<Eigen::Infinity>() : 0.0;
   if (dv > 1e-9 * std::max(1.0, v0.lpNorm<Eigen::Infinity>()))
-    std::cerr << "flexsens: note: the given initial velocities violate the constraints; projected onto them, "
-                 "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
+    std::cerr << "flexsens: note: the given initial velocities violate the constraints"
+              << (as.rheonomic() ? " and drivers (Phi_q v = -Phi_t)" : "") << "; projected onto them, "
+              << "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
 
   // Locked, staged, and moved into place whole at the end: never a mixture with an earlier
   // run's files, never a half-written directory under the final name.
@@ -233,6 +234,16 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   const EnergyMeter meter(as, p);
   ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
   EnergyAudit audit(meter, writer, sc.integrator.energyTolerance);
+  {
+    std::string active;
+    for (const auto& c : m.constraints)
+      if (c->rheonomic()) active += (active.empty() ? "" : ", ") + c->name();
+    for (const auto& e : m.elements)
+      if (e->externalWork()) active += (active.empty() ? "" : ", ") + e->name();
+    if (!active.empty())
+      audit.notJudged("drivers or loads that do external work (" + active +
+                      "): the energy of a non-passive model may rise");
+  }
   RunHealth health(as, p, audit);
   RunResult res;
   res.directory = outDir;

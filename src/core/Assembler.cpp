@@ -18,6 +18,7 @@ Assembler::Assembler(const Model& model, const ConstraintList* constraints, Deri
     consDofs_.push_back(dofMap(c->nodes(), c->usesSlopes()));
     consRow_.push_back(m_);
     m_ += c->rows();
+    rheonomic_ = rheonomic_ || c->rheonomic();
   }
 }
 
@@ -68,6 +69,7 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
     }
   }
   s.p = &p;
+  s.t = time_;
   if (gravityBound_ || loadFactor_ != 1.0) {
     gravityAtP_ = loadFactor_ * model_.gravityAt(p);
     s.gravity = &gravityAtP_;
@@ -210,6 +212,102 @@ VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const 
     }
   }
   return r;
+}
+
+// ------------------------------------------------------------------ time terms (drivers)
+VecX Assembler::phiT(const VecX& q, const VecX& p) const {
+  VecX r = VecX::Zero(m());
+  if (!rheonomic_) return r;
+  VecX pt, g;
+  MatX pqt, dg;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (!co.rheonomic()) continue;
+    co.timeDerivatives(localState(co, q, VecX(), p), pt, pqt, g, dg);
+    r.segment(consRow_[c], co.rows()) = pt;
+  }
+  return r;
+}
+
+VecX Assembler::phiQTTimes(const VecX& q, const VecX& p, const VecX& x) const {
+  VecX r = VecX::Zero(m());
+  if (!rheonomic_) return r;
+  VecX pt, g;
+  MatX pqt, dg;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (!co.rheonomic()) continue;
+    co.timeDerivatives(localState(co, q, VecX(), p), pt, pqt, g, dg);
+    r.segment(consRow_[c], co.rows()) = pqt * gather(consDofs_[c], x);
+  }
+  return r;
+}
+
+VecX Assembler::accelerationTimeTerms(const VecX& q, const VecX& v, const VecX& p) const {
+  VecX r = VecX::Zero(m());
+  if (!rheonomic_) return r;
+  VecX pt, g;
+  MatX pqt, dg;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (!co.rheonomic()) continue;
+    co.timeDerivatives(localState(co, q, v, p), pt, pqt, g, dg);
+    r.segment(consRow_[c], co.rows()) = g;
+  }
+  return r;
+}
+
+VecX Assembler::accelerationTimeTermsQTimes(const VecX& q, const VecX& v, const VecX& p,
+                                            const VecX& x) const {
+  VecX r = VecX::Zero(m());
+  if (!rheonomic_) return r;
+  VecX pt, g;
+  MatX pqt, dg;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (!co.rheonomic()) continue;
+    co.timeDerivatives(localState(co, q, v, p), pt, pqt, g, dg);
+    r.segment(consRow_[c], co.rows()) = dg * gather(consDofs_[c], x);
+  }
+  return r;
+}
+
+VecX Assembler::phiTParamDerivative(const VecX& q, const VecX& p, int k) const {
+  VecX r = VecX::Zero(m());
+  if (!rheonomic_) return r;
+  VecX ptp, gp;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (co.rheonomic() && co.timeParameterDerivative(localState(co, q, VecX(), p), k, ptp, gp))
+      r.segment(consRow_[c], co.rows()) = ptp;
+  }
+  return r;
+}
+
+VecX Assembler::accelerationTimeTermsParamDerivative(const VecX& q, const VecX& v, const VecX& p,
+                                                     int k) const {
+  VecX r = VecX::Zero(m());
+  if (!rheonomic_) return r;
+  VecX ptp, gp;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (co.rheonomic() && co.timeParameterDerivative(localState(co, q, v, p), k, ptp, gp))
+      r.segment(consRow_[c], co.rows()) = gp;
+  }
+  return r;
+}
+
+void Assembler::addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, double s,
+                         int64_t r0, int64_t c0) const {
+  if (!rheonomic_) return;
+  VecX pt, g;
+  MatX pqt, dg;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    if (!co.rheonomic()) continue;
+    co.timeDerivatives(localState(co, q, VecX(), p), pt, pqt, g, dg);
+    acc.addBlock(iota(consRow_[c], co.rows()), consDofs_[c], pqt, s, r0, c0);
+  }
 }
 
 MatX Assembler::phiQDense(const VecX& q, const VecX& p) const {

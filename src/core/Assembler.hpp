@@ -36,6 +36,13 @@ class Assembler {
   /// below: the static solver's load factor in (0, 1]; 1 for dynamics.
   void setLoadFactor(double s) const;
   double loadFactor() const { return loadFactor_; }
+  /// The time t [s] every entry point below evaluates at (LocalState::t): loads and drivers
+  /// that vary in time read it, the rest ignore it. Integrators set it before each evaluation
+  /// (as MFEM's TimeDependentOperator::SetTime), the initial state sets t0.
+  void setTime(double t) const { time_ = t; }
+  double time() const { return time_; }
+  /// True when some constraint is a driver (rheonomic): the time terms below are not zero.
+  bool rheonomic() const { return rheonomic_; }
   const Model& model() const { return model_; }
   int n() const { return model_.n; }
   int m() const { return m_; }
@@ -51,6 +58,17 @@ class Assembler {
   VecX hessianQuadratic(const VecX& q, const VecX& p, const VecX& v) const;  ///< (v^T H_i v)_i
   VecX hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const;  ///< (sum w_i H_i) x
   VecX hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const;  ///< (v^T H_i x)_i
+
+  // --- time terms of drivers (zero vectors when no constraint is rheonomic) ------------
+  VecX phiT(const VecX& q, const VecX& p) const;                             ///< Phi_t
+  VecX phiQTTimes(const VecX& q, const VecX& p, const VecX& x) const;        ///< Phi_qt x
+  /// g = Phi_tt + 2 Phi_qt v: d2 Phi/dt2 = Phi_q a + (v^T H_i v)_i + g.
+  VecX accelerationTimeTerms(const VecX& q, const VecX& v, const VecX& p) const;
+  VecX accelerationTimeTermsQTimes(const VecX& q, const VecX& v, const VecX& p, const VecX& x) const;  ///< g_q x
+  VecX phiTParamDerivative(const VecX& q, const VecX& p, int k) const;       ///< Phi_tp
+  VecX accelerationTimeTermsParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k) const;  ///< g_p
+  /// Phi_qt at (r0, c0): the q-derivative of Phi_t (GGL velocity rows).
+  void addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, double s, int64_t r0, int64_t c0) const;
 
   /// Phi_q as a dense matrix (small systems: PIM, least-norm projections).
   MatX phiQDense(const VecX& q, const VecX& p) const;
@@ -116,6 +134,8 @@ class Assembler {
   mutable VecX gravityAtP_;
   bool gravityBound_ = false;
   mutable double loadFactor_ = 1.0;
+  mutable double time_ = 0.0;
+  bool rheonomic_ = false;
   Derivatives derivatives_ = Derivatives::Analytic;
 };
 

@@ -26,6 +26,7 @@ struct LocalState {
   VecX v;                      ///< velocities [m/s]
   const VecX* p = nullptr;     ///< design parameters (values of all parameters)
   const VecX* gravity = nullptr; ///< gravity vector, dim entries [m/s^2]
+  double t = 0.0;              ///< time [s]: read by loads and drivers that vary in time
   double value(const Quantity& s) const { return s.value(*p); }
   int nodeSize() const { return slopes ? 2 * dim : dim; }  ///< local coordinates per node
 };
@@ -71,6 +72,9 @@ class Element {
   /// An applied load (point force, torque): the static solver scales its force by the load
   /// factor, like gravity. Internal forces (elastic, damping) are not loads.
   virtual bool isLoad() const { return false; }
+  /// True for a load that does work the potential does not hold (varying in time, follower):
+  /// the energy audit of a passive model does not apply.
+  virtual bool externalWork() const { return false; }
   /// Potential energy (gravity, elastic) [J]; its negative gradient is the conservative part of Q.
   virtual double potential(const LocalState& s) const = 0;
   /// The scalar quantities this element reads, by property name (for parameter binding).
@@ -122,6 +126,21 @@ class Constraint {
     throw std::logic_error("no AD kernel");
   }
   virtual std::vector<std::pair<std::string, Quantity*>> properties() = 0;
+
+  // --- rheonomic constraints (drivers): Phi(q, t) depends on the time s.t. The defaults are
+  // those of the scleronomic constraints: every time derivative is zero.
+  virtual bool rheonomic() const { return false; }
+  /// At s.t: Phi_t (rows), Phi_qt (rows x local dofs), the time terms of the acceleration
+  /// constraint g = Phi_tt + 2 Phi_qt v (v = s.v; rows) and dg/dq (rows x local dofs), so
+  /// that d2 Phi/dt2 = Phi_q a + (v^T H_i v)_i + g.
+  virtual void timeDerivatives(const LocalState& s, VecX& phiT, MatX& phiQT, VecX& g, MatX& dgdq) const {
+    (void)s; (void)phiT; (void)phiQT; (void)g; (void)dgdq;
+  }
+  /// Phi_tp and g_p for design parameter k at fixed q, v, t; false when independent of k.
+  virtual bool timeParameterDerivative(const LocalState& s, int k, VecX& phiTp, VecX& gp) const {
+    (void)s; (void)k; (void)phiTp; (void)gp;
+    return false;
+  }
 
  private:
   std::string name_;

@@ -95,12 +95,16 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   SparseLU lu;
 
   obs.frame(cur);
+  as.setTime(cur.x.t);
   st.maxConstraintViolation = m ? as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
   const double t0 = cur.x.t;
   for (long step = 1; step <= nsteps; ++step) {
     const State& old = cur.x;
     // Not accumulated: frame times stay exact multiples; the last one is t_end itself.
     const double t = step == nsteps ? set.tEnd : t0 + step * h;
+    // Index 3: equilibrium, loads and the drivers' Phi(q, t) all at t_{n+1} (the sensitivity
+    // solve below differentiates the same equations, at the same time).
+    as.setTime(t);
     VecX abar, vbar;
     sc.history(old, abar, vbar);
     // Predictor: Taylor expansion of the previous step for the trapezoidal rule. BDF-1 and

@@ -28,7 +28,7 @@ VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX&
   r.segment(n, n) = M * yp.segment(n, n) + as.phiQTransposeTimes(q, p, lam) - as.force(q, v, p);
   if (m) {
     r.segment(2 * n, m) = as.phi(q, p);
-    r.segment(2 * n + m, m) = as.phiQTimes(q, p, v);
+    r.segment(2 * n + m, m) = as.phiQTimes(q, p, v) + as.phiT(q, p);  // d Phi/dt = 0 (drivers: Phi_t)
   }
   return r;
 }
@@ -53,6 +53,7 @@ const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, doub
   // Phi rows: Phi_q; Phi_q v rows: d(Phi_q v)/dq, Phi_q
   as.addPhiQ(acc, q, p, 1.0, 2 * n, 0, false);
   as.addHessianRows(acc, q, p, v, 1.0, 2 * n + m, 0);
+  as.addPhiQT(acc, q, p, 1.0, 2 * n + m, 0);
   as.addPhiQ(acc, q, p, 1.0, 2 * n + m, n, false);
   return acc.finish();
 }
@@ -79,7 +80,8 @@ VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, 
   if (m) {
     r.segment(2 * n, m) = as.phiQTimes(q, p, sq) + as.phiParamDerivative(q, p, k);
     r.segment(2 * n + m, m) = as.phiQTimes(q, p, sv) + as.hessianRowsTimes(q, p, v, sq) +
-                              as.phiQParamDerivativeTimes(q, p, k, v);
+                              as.phiQParamDerivativeTimes(q, p, k, v) + as.phiQTTimes(q, p, sq) +
+                              as.phiTParamDerivative(q, p, k);
   }
   return r;
 }
@@ -132,9 +134,10 @@ void check(int flag, const char* fn, const Problem& pb, double t) {
 }
 
 // Callbacks: thin wrappers over the GGL functions above (exceptions become return codes).
-int residual(double, N_Vector yy, N_Vector yp, N_Vector rr, void* ud) {
+int residual(double t, N_Vector yy, N_Vector yp, N_Vector rr, void* ud) {
   auto& pb = *static_cast<Problem*>(ud);
   try {
+    pb.as->setTime(t);
     auto r = view(rr);
     r = gglResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp));
     return r.allFinite() ? 0 : 1;  // recoverable: IDAS retries with a smaller step
@@ -144,10 +147,11 @@ int residual(double, N_Vector yy, N_Vector yp, N_Vector rr, void* ud) {
   }
 }
 
-int jacobian(double, double cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix J, void* ud, N_Vector,
+int jacobian(double t, double cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix J, void* ud, N_Vector,
              N_Vector, N_Vector) {
   auto& pb = *static_cast<Problem*>(ud);
   try {
+    pb.as->setTime(t);
     const SpMat& A = gglJacobian(*pb.as, *pb.p, view(yy), cj, pb.acc);
     if (SUNSparseMatrix_NNZ(J) < A.nonZeros()) SUNSparseMatrix_Reallocate(J, A.nonZeros());
     std::memcpy(SUNSparseMatrix_IndexPointers(J), A.outerIndexPtr(), sizeof(int64_t) * (A.cols() + 1));
@@ -160,10 +164,11 @@ int jacobian(double, double cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix J, vo
   }
 }
 
-int sensResidual(int Ns, double, N_Vector yy, N_Vector yp, N_Vector, N_Vector* yS, N_Vector* ypS,
+int sensResidual(int Ns, double t, N_Vector yy, N_Vector yp, N_Vector, N_Vector* yS, N_Vector* ypS,
                  N_Vector* rS, void* ud, N_Vector, N_Vector, N_Vector) {
   auto& pb = *static_cast<Problem*>(ud);
   try {
+    pb.as->setTime(t);
     for (int k = 0; k < Ns; ++k) {
       auto r = view(rS[k]);
       r = gglSensitivityResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), k, view(yS[k]), view(ypS[k]));
@@ -256,7 +261,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
 
   // Pattern: assemble once at the initial state to size the sparse matrix.
   {
-    VectorPtr tmp(N_VNew_Serial(N, ctx.get()));
+    VectorPtr tmp(N_VNew_Serial(N, ctx.get()));  // (the Jacobian callback sets the time t)
     std::unique_ptr<_generic_SUNMatrix, MatrixDeleter> probe(SUNSparseMatrix(N, N, 1, CSC_MAT, ctx.get()));
     if (jacobian(t, 1.0, y.get(), yp.get(), tmp.get(), probe.get(), &pb, nullptr, nullptr, nullptr) != 0)
       throw NumericalError("IDAS: Jacobian assembly failed at t = " + std::to_string(t) + ": " + pb.failure);
@@ -325,6 +330,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     return out;
   };
   obs.frame(start);
+  as.setTime(t);
   st.maxConstraintViolation = m ? as.phi(start.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
   const long nframes = outputCount(set.tEnd - t, set.frameInterval);
   for (long f = 1; f <= nframes; ++f) {
@@ -351,6 +357,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       if (interruptSignal()) {
         readCounters();
         StateWithSens out = current();
+        as.setTime(t);
         if (m) st.maxConstraintViolation =
             std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
         endStep(obs, out, st, false);  // writes the state reached and throws Interrupted
@@ -358,6 +365,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       obs.progress(t);
     }
     StateWithSens out = current();
+    as.setTime(t);
     if (m) st.maxConstraintViolation =
         std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
     readCounters();

@@ -30,7 +30,13 @@ VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
 VecX projectVelocities(const Assembler& as, const VecX& q, const VecX& v, const VecX& p) {
   if (as.m() == 0) return v;
   const MatX J = as.phiQDense(q, p);
-  return v - J.completeOrthogonalDecomposition().solve(J * v);
+  return v - J.completeOrthogonalDecomposition().solve(VecX(J * v + as.phiT(q, p)));
+}
+
+VecX velocitySensitivityRhs(const Assembler& as, const VecX& q, const VecX& v, const VecX& p, int k,
+                            const VecX& dq) {
+  return -(as.hessianRowsTimes(q, p, v, dq) + as.phiQParamDerivativeTimes(q, p, k, v) +
+           as.phiQTTimes(q, p, dq) + as.phiTParamDerivative(q, p, k));
 }
 
 SpMat augmentedMatrix(const Assembler& as, const VecX& q, const VecX& p) {
@@ -248,8 +254,10 @@ void masslessSensitivity(const Assembler& as, const State& x, const VecX& p, int
 void solveAccelerations(const Assembler& as, State& s, const VecX& p) {
   const int n = as.n(), m = as.m();
   VecX rhs(n + m);
+  as.setTime(s.t);
   rhs.head(n) = as.force(s.q, s.v, p);
-  if (m) rhs.tail(m) = -as.hessianQuadratic(s.q, p, s.v);
+  // d2 Phi/dt2 = Phi_q a + (v^T H_i v)_i + Phi_tt + 2 Phi_qt v = 0
+  if (m) rhs.tail(m) = -(as.hessianQuadratic(s.q, p, s.v) + as.accelerationTimeTerms(s.q, s.v, p));
   const VecX x = solveAugmented(as, s.q, p, s.t, rhs);
   s.a = x.head(n);
   s.lambda = x.tail(m);
@@ -258,6 +266,7 @@ void solveAccelerations(const Assembler& as, State& s, const VecX& p) {
 void solveAccelerationSensitivity(const Assembler& as, const State& x, const VecX& p, int k,
                                   State& d) {
   const int n = as.n(), m = as.m();
+  as.setTime(x.t);
   // dQ/dq q_p + dQ/dv v_p, from the sparse force Jacobians.
   SparseAccumulator kq, kv;
   kq.begin(n, n);
@@ -270,7 +279,10 @@ void solveAccelerationSensitivity(const Assembler& as, const State& x, const Vec
                   kq.finish() * d.q - kv.finish() * d.v - as.forceParamDerivative(x.q, x.v, p, k));
   if (m)
     rhs.tail(m) = -(as.hessianRowsTimes(x.q, p, x.a, d.q) + as.phiQParamDerivativeTimes(x.q, p, k, x.a) +
-                    2.0 * as.hessianRowsTimes(x.q, p, x.v, d.v));
+                    2.0 * as.hessianRowsTimes(x.q, p, x.v, d.v) +
+                    // d/dp of the drivers' g = Phi_tt + 2 Phi_qt v: g_q q_p + 2 Phi_qt v_p + g_p
+                    as.accelerationTimeTermsQTimes(x.q, x.v, p, d.q) + 2.0 * as.phiQTTimes(x.q, p, d.v) +
+                    as.accelerationTimeTermsParamDerivative(x.q, x.v, p, k));
   const VecX sol = solveAugmented(as, x.q, p, x.t, rhs);
   d.a = sol.head(n);
   d.lambda = sol.tail(m);

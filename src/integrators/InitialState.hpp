@@ -14,10 +14,15 @@ namespace flexsens {
 
 /// Moves q onto Phi(q, p) = 0 by least-norm Gauss-Newton; throws NumericalError if it fails.
 VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol = 1e-12);
-/// Removes the component of v violating Phi_q v = 0 (least-norm correction).
+/// Removes the component of v violating Phi_q v + Phi_t = 0 (least-norm correction; Phi_t at
+/// the assembler's time: drivers).
 VecX projectVelocities(const Assembler& as, const VecX& q, const VecX& v, const VecX& p);
 /// Fills s.a and s.lambda from s.q, s.v (index-1 system at time s.t).
 void solveAccelerations(const Assembler& as, State& s, const VecX& p);
+/// Right-hand side of Phi_q v_p = -((Phi_q v + Phi_t)_q q_p + Phi_qp v + Phi_tp): the
+/// derivative of the velocity constraint with respect to parameter k, given q_p = dq.
+VecX velocitySensitivityRhs(const Assembler& as, const VecX& q, const VecX& v, const VecX& p, int k,
+                            const VecX& dq);
 /// Given x (q, v, a, lambda) and d.q, d.v for parameter k, fills d.a and d.lambda.
 void solveAccelerationSensitivity(const Assembler& as, const State& x, const VecX& p, int k,
                                   State& d);

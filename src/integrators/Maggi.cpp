@@ -110,6 +110,7 @@ class Rhs {
     const int n = as_.n(), m = as_.m();
     st_.residualEvaluations++;
     if (!y.q.allFinite() || !y.vi.allFinite()) fail(t, step, "positions or independent velocities");
+    as_.setTime(t);  // drivers and time-dependent loads at the stage time
     State& x = s.x;
     x.t = t;
     x.q = y.q;
@@ -135,8 +136,8 @@ class Rhs {
            << advice(as_, p_, ref_.q, ref_.v, set_.dt);
         throw NumericalError(os.str());
       }
-      // Phi_q v = 0 for the dependent velocities [m/s].
-      const VecX vd = -lu.solve(Ji * y.vi);
+      // Phi_q v + Phi_t = 0 for the dependent velocities [m/s].
+      const VecX vd = -lu.solve(VecX(Ji * y.vi + as_.phiT(y.q, p_)));
       for (size_t i = 0; i < P_.dep.size(); ++i) x.v[P_.dep[i]] = vd[i];
     }
     solveAccelerations(as_, x, p_);  // a [m/s^2], lambda from the index-1 system
@@ -158,9 +159,8 @@ class Rhs {
       d.v.resize(n);
       for (size_t i = 0; i < P_.indep.size(); ++i) d.v[P_.indep[i]] = y.vip[k][i];
       if (m) {
-        // d/dp of Phi_q v = 0: Phi_q v_p = -((Phi_q v)_q q_p + Phi_qp v).
-        const VecX r = -(as_.hessianRowsTimes(y.q, p_, x.v, d.q) +
-                         as_.phiQParamDerivativeTimes(y.q, p_, kk, x.v));
+        // d/dp of Phi_q v + Phi_t = 0: Phi_q v_p = -((Phi_q v + Phi_t)_q q_p + Phi_qp v + Phi_tp).
+        const VecX r = velocitySensitivityRhs(as_, y.q, x.v, p_, kk, d.q);
         const VecX vd = lu.solve(VecX(r - Ji * y.vip[k]));
         for (size_t i = 0; i < P_.dep.size(); ++i) d.v[P_.dep[i]] = vd[i];
       }

@@ -56,6 +56,7 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
   }
 
   StaticReport rep;
+  as.setTime(s.time);  // staticSensitivities then differentiates at the same time
   VecX q = std::move(q0), lambda = VecX::Zero(m);
   const VecX v = VecX::Zero(n);
   SparseAccumulator acc;

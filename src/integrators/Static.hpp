@@ -21,6 +21,7 @@ namespace flexsens {
 
 struct StaticSettings {
   int steps = 10;           ///< equal load increments of the load factor s
+  double time = 0.0;        ///< time [s] at which loads and drivers are evaluated
   int maxIterations = 25;   ///< Newton iterations per load step
   double tol = 1e-10;       ///< converged when |dq|_inf <= tol (1 + |q|_inf) and likewise for lambda
   /// Parameters at load factor s in (0, 1]; must give the solver's p at s = 1. Empty: p at every

@@ -14,6 +14,8 @@
 
 #include <sys/stat.h>
 
+#include "constraints/Driver.hpp"
+
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -70,6 +72,23 @@ ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem
   for (const auto& o : scene_.outputs) columns_.push_back(o.name);
   for (const auto& o : scene_.outputs)
     for (const auto& p : scene_.model->parameters) columns_.push_back("d" + o.name + "/d" + p.name);
+  {
+    const Model& m = *scene_.model;
+    int row = 0;
+    for (size_t c = 0; c < m.constraints.size(); ++c) {
+      if (dynamic_cast<const Driver*>(m.constraints[c].get()))
+        drivers_.emplace_back(c, row);
+      row += m.constraints[c]->rows();
+    }
+    std::vector<std::string> names;
+    for (const auto& [c, r] : drivers_) {
+      const auto* d = static_cast<const Driver*>(m.constraints[c].get());
+      names.push_back(d->name() + ".reaction_" + (std::string(d->reactionUnit()) == "N" ? "N" : "Nm"));
+    }
+    for (const auto& n : names) columns_.push_back(n);
+    for (const auto& n : names)
+      for (const auto& p : m.parameters) columns_.push_back("d" + n + "/d" + p.name);
+  }
   if (energy_)
     for (const char* c : {"kinetic_J", "potential_J", "energy_J"}) columns_.push_back(c);
   for (size_t i = 0; i < columns_.size(); ++i) csv_ << (i ? "," : "") << columns_[i];
@@ -86,6 +105,22 @@ void ResultWriter::frame(const StateWithSens& s) {
   for (const auto& o : scene_.outputs) lastRow_.push_back(o.value(m, s.x.q));
   for (const auto& o : scene_.outputs)
     for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(o.derivative(m, s.x.q, s.dp[k].q));
+  if (!drivers_.empty()) {
+    // reaction = -lambda dPhi/ds; its derivative -(lambda_p dPhi/ds + lambda (dPhi/ds)_x x_p)
+    std::vector<double> sens;
+    for (const auto& [c, r] : drivers_) {
+      const auto* d = static_cast<const Driver*>(m.constraints[c].get());
+      VecX grad;
+      const double lam = s.x.lambda.size() > r ? s.x.lambda[r] : 0.0;
+      const double scale = d->reactionScale(gatherNodes(d->nodes(), s.x.q, false), &grad);
+      lastRow_.push_back(-lam * scale);
+      for (size_t k = 0; k < s.dp.size(); ++k) {
+        const double lp = s.dp[k].lambda.size() > r ? s.dp[k].lambda[r] : 0.0;
+        sens.push_back(-(lp * scale + lam * grad.dot(gatherNodes(d->nodes(), s.dp[k].q, true))));
+      }
+    }
+    lastRow_.insert(lastRow_.end(), sens.begin(), sens.end());
+  }
   if (energy_) {
     const Energy e = energy_->at(s.x.q, s.x.v);
     lastRow_.insert(lastRow_.end(), {e.kinetic, e.potential, e.total()});
@@ -102,6 +137,17 @@ void ResultWriter::frame(const StateWithSens& s) {
     writeVtu(s, name.str());
     vtuFiles_.push_back(name.str());
   }
+}
+
+VecX ResultWriter::gatherNodes(const std::vector<int>& nodes, const VecX& q, bool derivative) const {
+  const Model& m = *scene_.model;
+  VecX x(m.dim * nodes.size());
+  for (size_t a = 0; a < nodes.size(); ++a)
+    for (int c = 0; c < m.dim; ++c) {
+      const int d = m.dof(nodes[a], c);
+      x[m.dim * a + c] = d >= 0 ? q[d] : (derivative ? 0.0 : m.nodes[nodes[a]].position[c]);
+    }
+  return x;
 }
 
 void ResultWriter::fail(const std::string& name, int err) const {

@@ -19,7 +19,9 @@ class ResultWriter : public Observer {
   /// dir must exist. stem prefixes the file names (e.g. "" or "R1_"). Error messages name
   /// the files under shownDir (the final directory when dir is its staging copy).
   /// timeColumn names series.csv's first column ("load_factor" for static runs).
-  /// With `energy`, series.csv ends with the columns kinetic_J, potential_J, energy_J.
+  /// Each driver adds its reaction (<name>.reaction_N or _Nm: -lambda dPhi/ds) after the outputs'
+  /// derivatives, then its derivatives. With `energy`, series.csv ends with the columns
+  /// kinetic_J, potential_J, energy_J.
   ResultWriter(const Scene& scene, std::string dir, std::string stem, std::string shownDir = "",
                const std::string& timeColumn = "t", const EnergyMeter* energy = nullptr);
   void frame(const StateWithSens& s) override;
@@ -40,6 +42,10 @@ class ResultWriter : public Observer {
 
  private:
   void writeVtu(const StateWithSens& s, const std::string& name) const;
+  /// Local positions (and their parameter derivatives) of a node list, ground nodes fixed.
+  VecX gatherNodes(const std::vector<int>& nodes, const VecX& q, bool derivative) const;
+  /// Drivers (constraint index, first multiplier row): their reactions are columns.
+  std::vector<std::pair<size_t, int>> drivers_;
   [[noreturn]] void fail(const std::string& name, int err) const;
   const Scene& scene_;
   const EnergyMeter* energy_;

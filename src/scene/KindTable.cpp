@@ -20,6 +20,7 @@ const KindTable& elementKinds() {
       {"beam", readBeam},
       {"planar_rigid_body", readPlanarRigidBody},
       {"point_force", readPointForce},
+      {"point_torque", readPointTorque},
       {"rigid_bar", readRigidBar},
       {"rigid_body", readRigidBody},
       {"rotational_spring_damper", readRotationalSpring},
@@ -33,8 +34,11 @@ const KindTable& constraintKinds() {
   static const KindTable t{{
       {"distance", readDistance},
       {"fixed", readFixed},
+      {"motor", readMotor},
       {"perpendicular", readPerpendicular},
       {"point_on_plane", readPointOnPlane},
+      {"prescribed_coordinate", readPrescribedCoordinate},
+      {"prescribed_distance", readPrescribedDistance},
       {"spherical", readSpherical},
   }};
   return t;

@@ -28,6 +28,7 @@ const KindTable& constraintKinds();  ///< `constraints:` item types
 void readRigidBar(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readSpringDamper(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPointForce(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readPointTorque(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPlanarRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readAncfCable(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
@@ -38,6 +39,9 @@ void readDistance(SceneContext&, const YAML::Node&, const std::string&, const st
 void readFixed(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readSpherical(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPerpendicular(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readPrescribedCoordinate(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readPrescribedDistance(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readMotor(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPointOnPlane(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 
 }  // namespace flexsens

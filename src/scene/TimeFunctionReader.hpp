@@ -1,0 +1,21 @@
+// Scene reader of time functions (core/TimeFunction.hpp), shared by loads and drivers.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/TimeFunction.hpp"
+#include "scene/SceneContext.hpp"
+
+namespace flexsens {
+
+/// Reads the map `fn` at key path `path`:
+///   {type: constant, value} | {type: ramp, slope, start: 0, offset: 0}
+///   | {type: smooth_step, t0, t1, from: 0, to} | {type: harmonic, amplitude, omega, phase: 0, offset: 0}
+///   | {type: spin_up, omega, duration} | {type: table, file, scale: 1}
+/// (a CSV of `t, f` rows beside the scene; '#' comments and one header line allowed). The
+/// function's constants become bindable as "<item>.<constant>" (e.g. "motor.amplitude").
+std::unique_ptr<TimeFunction> readTimeFunction(SceneContext& ctx, const YAML::Node& fn,
+                                               const std::string& path, const std::string& item);
+
+}  // namespace flexsens
