@@ -226,25 +226,34 @@ void bendingTerms(const VecD<D>& a, const VecD<D>& b, double a0, double kappa0, 
 }  // namespace
 
 template <int D>
-void AncfCable::elasticD(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
+void AncfCable::elasticD(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
   constexpr int n = 4 * D;
   QA.setZero(n);
-  QB.setZero(n);
+  QB.setZero(n);  // QB may be QA, KB may be KA: both are zeroed before anything is added
   if (KA) KA->setZero(n, n);
   if (KB) KB->setZero(n, n);
   const Eigen::Map<const Eigen::Matrix<double, D, 4>> X(s.x.data());  // column i: e_i
+  // Adds the symmetric stiffness of one point, blocks (i, j) = sum of c_ij H, to K.
+  auto addSym = [](MatX& K, auto&& block) {
+    for (int i = 0; i < 4; ++i)
+      for (int j = i; j < 4; ++j) {
+        const MatD<D> B = block(i, j);
+        K.template block<D, D>(i * D, j * D) -= B;
+        if (j != i) K.template block<D, D>(j * D, i * D) -= B.transpose();
+      }
+  };
   for (const Point& P : ptsA_) {
     // Per unit EA: 1/2 eps^2, eps = |a|/a0 - 1; grad eps = a/(|a| a0), Hess eps = (I - n n^T)/(|a| a0).
     const VecD<D> a = X * P.d1;
     const double gg = a.squaredNorm(), na = std::sqrt(gg);
     if (!(na > 0.0)) throw NumericalError("ancf_cable " + name() + ": zero slope r' at a Gauss point");
     const double eps = na / P.a0 - 1.0;
-    const VecD<D> de = a / (na * P.a0), g = eps * de;
+    const VecD<D> de = a / (na * P.a0), g = (cA * eps) * de;
     for (int i = 0; i < 4; ++i) QA.template segment<D>(i * D) -= (P.w * P.d1[i]) * g;
     if (!KA) continue;
-    const MatD<D> H = de * de.transpose() + (eps / (na * P.a0)) * (MatD<D>::Identity() - a * a.transpose() / gg);
-    for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 4; ++i) KA->template block<D, D>(i * D, j * D) -= (P.w * P.d1[i] * P.d1[j]) * H;
+    const MatD<D> H = (cA * P.w) * (de * de.transpose() +
+                                    (eps / (na * P.a0)) * (MatD<D>::Identity() - a * a.transpose() / gg));
+    addSym(*KA, [&](int i, int j) { return MatD<D>((P.d1[i] * P.d1[j]) * H); });
   }
   for (const Point& P : ptsB_) {
     const VecD<D> a = X * P.d1, b = X * P.d2;
@@ -252,28 +261,30 @@ void AncfCable::elasticD(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX
     VecD<D> ga, gb;
     MatD<D> Haa = MatD<D>::Zero(), Hab = MatD<D>::Zero(), Hbb = MatD<D>::Zero();  // (set when KB)
     bendingTerms<D>(a, b, P.a0, P.kappa0, ga, gb, KB ? &Haa : nullptr, &Hab, &Hbb);
-    for (int i = 0; i < 4; ++i) QB.template segment<D>(i * D) -= P.w * (P.d1[i] * ga + P.d2[i] * gb);
+    const double wc = cB * P.w;
+    for (int i = 0; i < 4; ++i) QB.template segment<D>(i * D) -= wc * (P.d1[i] * ga + P.d2[i] * gb);
     if (!KB) continue;
-    for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 4; ++i)
-        KB->template block<D, D>(i * D, j * D) -=
-            P.w * (P.d1[i] * P.d1[j] * Haa + P.d1[i] * P.d2[j] * Hab + P.d2[i] * P.d1[j] * Hab.transpose() +
-                   P.d2[i] * P.d2[j] * Hbb);
+    Haa *= wc;
+    Hab *= wc;
+    Hbb *= wc;
+    addSym(*KB, [&](int i, int j) {
+      return MatD<D>(P.d1[i] * P.d1[j] * Haa + P.d1[i] * P.d2[j] * Hab + P.d2[i] * P.d1[j] * Hab.transpose() +
+                     P.d2[i] * P.d2[j] * Hbb);
+    });
   }
 }
 
-void AncfCable::elastic(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
+void AncfCable::elastic(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
   if (s.dim != dim_ || !s.slopes) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
   if (dim_ == 2)
-    elasticD<2>(s, QA, QB, KA, KB);
+    elasticD<2>(s, cA, cB, QA, QB, KA, KB);
   else
-    elasticD<3>(s, QA, QB, KA, KB);
+    elasticD<3>(s, cA, cB, QA, QB, KA, KB);
 }
 
 void AncfCable::force(const LocalState& s, VecX& Q) const {
-  VecX QA, QB;
-  elastic(s, QA, QB, nullptr, nullptr);
-  Q = sec_->EA(*s.p) * QA + sec_->EI(*s.p) * QB + gravityLoad(s, sec_->rhoA(*s.p));
+  elastic(s, sec_->EA(*s.p), sec_->EI(*s.p), Q, Q, nullptr, nullptr);
+  Q += gravityLoad(s, sec_->rhoA(*s.p));
 }
 
 VecX AncfCable::gravityLoad(const LocalState& s, double rhoA) const {
@@ -285,17 +296,15 @@ VecX AncfCable::gravityLoad(const LocalState& s, double rhoA) const {
 }
 
 void AncfCable::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  VecX QA, QB;
-  MatX KA, KB;
-  elastic(s, QA, QB, &KA, &KB);
-  dQdq = sec_->EA(*s.p) * KA + sec_->EI(*s.p) * KB;
+  VecX Q;
+  elastic(s, sec_->EA(*s.p), sec_->EI(*s.p), Q, Q, &dQdq, &dQdq);
   dQdv.setZero(4 * dim_, 4 * dim_);
 }
 
 bool AncfCable::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   if (!sec_->axialDependsOn(k) && !sec_->bendingDependsOn(k)) return false;
   VecX QA, QB;
-  elastic(s, QA, QB, nullptr, nullptr);
+  elastic(s, 1.0, 1.0, QA, QB, nullptr, nullptr);
   const double drhoA = sec_->drhoA(*s.p, k);
   dQ = sec_->dEA(*s.p, k) * QA + sec_->dEI(*s.p, k) * QB + gravityLoad(s, drhoA);
   const int d = dim_;

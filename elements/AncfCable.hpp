@@ -72,10 +72,12 @@ class AncfCable : public KernelElement<AncfCable> {
     double kappa0;           ///< planar rest curvature [1/m] (0 in 3D)
   };
   std::vector<Point> makePoints(const VecX& restX, int n, bool checkStraight) const;
-  /// Elastic force per unit EA (QA) and per unit EI (QB), and optional stiffnesses.
-  void elastic(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
+  /// Axial elastic force times cA (QA), bending force times cB (QB) and optional stiffnesses
+  /// dQ/dq; (cA, cB) = (1, 1): per unit EA and EI, (EA, EI): the force. QB may be QA and KB
+  /// may be KA: the two parts then add up in one vector / matrix.
+  void elastic(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
   template <int D>
-  void elasticD(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
+  void elasticD(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
   VecX gravityLoad(const LocalState& s, double rhoA) const;
 
   std::vector<const Quantity*> kernelProperties() const {
