@@ -149,17 +149,17 @@ VecT<T> AncfCable::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
     const T gg = a.squaredNorm(), na = sqrt(gg);
     if (!(ad::valueOf(na) > 0.0)) throw NumericalError("ancf_cable " + name() + ": zero slope r' at a Gauss point");
     VecT<T> ga(d), gb(d);
-    if (d == 2) {  // EI/2 (kappa - kappa0)^2, kappa = (a x b) / |a|^3
-      const T h = 1.0 / (gg * na), kappa = (a[0] * b[1] - a[1] * b[0]) * h;
+    if (d == 2) {  // EI/2 (kappa - kappa0)^2, kappa = (a x b) / (|a|^2 a0)
+      const T h = 1.0 / (gg * P.a0), kappa = (a[0] * b[1] - a[1] * b[0]) * h;
       const T m = EI * (kappa - P.kappa0);  // bending moment [N m]
-      ga[0] = m * (h * b[1] - 3.0 * kappa * a[0] / gg);
-      ga[1] = m * (-h * b[0] - 3.0 * kappa * a[1] / gg);
+      ga[0] = m * (h * b[1] - 2.0 * kappa * a[0] / gg);
+      ga[1] = m * (-h * b[0] - 2.0 * kappa * a[1] / gg);
       gb[0] = -m * h * a[1];
       gb[1] = m * h * a[0];
-    } else {  // EI/2 |a x b|^2 / |a|^6
+    } else {  // EI/2 |a x b|^2 / (|a|^4 a0^2)
       const T beta = b.squaredNorm(), gam = a.dot(b);
-      const T u = 1.0 / (gg * gg * gg), phi = (gg * beta - gam * gam) * u;
-      ga = EI * (u * (beta * a - gam * b) - (3.0 * phi / gg) * a);
+      const T u = 1.0 / (gg * gg * P.a0 * P.a0), phi = (gg * beta - gam * gam) * u;
+      ga = EI * (u * (beta * a - gam * b) - (2.0 * phi / gg) * a);
       gb = EI * u * (gg * b - gam * a);
     }
     for (int i = 0; i < 4; ++i) Q.segment(i * d, d) -= P.w * (P.d1[i] * ga + P.d2[i] * gb);
@@ -168,98 +168,123 @@ VecT<T> AncfCable::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
 }
 
 // ------------------------------------------------------------------ analytic derivatives
-void AncfCable::axialTerms(const Point& P, const VecX& a, VecX& gA, MatX* HA) const {
-  const int d = dim_;
-  const double gg = a.squaredNorm(), na = std::sqrt(gg);
-  if (!(na > 0.0)) throw NumericalError("ancf_cable " + name() + ": zero slope r' at a Gauss point");
-  // 1/2 eps^2, eps = |a|/a0 - 1; grad eps = a/(|a| a0), Hess eps = (I - n n^T)/(|a| a0).
-  const double eps = na / P.a0 - 1.0;
-  const VecX de = a / (na * P.a0);
-  gA = VecX::Zero(2 * d);
-  gA.head(d) = eps * de;
-  if (HA) {
-    HA->setZero(2 * d, 2 * d);
-    HA->topLeftCorner(d, d) =
-        de * de.transpose() + (eps / (na * P.a0)) * (MatX::Identity(d, d) - a * a.transpose() / gg);
-  }
-}
+// Hand-coded force and stiffness with fixed-size (D = 2, 3) blocks: (r', r'') = sum_i
+// (d1_i, d2_i) e_i, so the stiffness of a quadrature point is a 4 x 4 pattern of D x D blocks
+// d1_i d1_j H_aa + d1_i d2_j H_ab + d2_i d1_j H_ba + d2_i d2_j H_bb; no B matrix, no heap
+// temporaries (the dynamic-size version spent most of its time in malloc and small GEMMs).
+namespace {
 
-void AncfCable::bendingTerms(const Point& P, const VecX& a, const VecX& b, VecX& gB, MatX* HB) const {
-  const int d = dim_;
-  const double gg = a.squaredNorm(), na = std::sqrt(gg);
-  if (!(na > 0.0)) throw NumericalError("ancf_cable " + name() + ": zero slope r' at a Gauss point");
-  const MatX Id = MatX::Identity(d, d);
-  gB.resize(2 * d);
-  if (d == 2) {
-    // Per EI: 1/2 (kappa - kappa0)^2, kappa = c h, c = a x b, h = |a|^-3.
-    const double h = 1.0 / (gg * na), c = a[0] * b[1] - a[1] * b[0], kappa = c * h, dk = kappa - P.kappa0;
-    const Eigen::Vector2d ca(b[1], -b[0]), cb(-a[1], a[0]);     // dc/da, dc/db
-    const Eigen::Vector2d hA = (-3.0 * h / gg) * Eigen::Vector2d(a);  // dh/da
-    VecX gk(4);
-    gk << h * ca + c * hA, h * cb;
-    gB = dk * gk;
-    if (HB) {
-      Eigen::Matrix2d Hh = (-3.0 * h / gg) * Eigen::Matrix2d::Identity() +
-                           (15.0 * h / (gg * gg)) * Eigen::Vector2d(a) * Eigen::Vector2d(a).transpose();
-      Eigen::Matrix2d Cab;
+template <int D>
+using VecD = Eigen::Matrix<double, D, 1>;
+template <int D>
+using MatD = Eigen::Matrix<double, D, D>;
+
+/// Per unit EI: gradient (ga, gb) and Hessian blocks of the bending density 1/2 w_b at
+/// (a, b) = (r', r''); a0 = |r0'|, kappa0 the planar rest curvature. H null: gradient only.
+template <int D>
+void bendingTerms(const VecD<D>& a, const VecD<D>& b, double a0, double kappa0, VecD<D>& ga, VecD<D>& gb,
+                  MatD<D>* Haa, MatD<D>* Hab, MatD<D>* Hbb) {
+  const double gg = a.squaredNorm();
+  if constexpr (D == 2) {
+    // 1/2 (kappa - kappa0)^2, kappa = c h, c = a x b, h = |a|^-2 / a0.
+    const double h = 1.0 / (gg * a0), c = a[0] * b[1] - a[1] * b[0], kappa = c * h, dk = kappa - kappa0;
+    const VecD<2> ca(b[1], -b[0]), cb(-a[1], a[0]);  // dc/da, dc/db
+    const VecD<2> hA = (-2.0 * h / gg) * a;           // dh/da
+    const VecD<2> ka = h * ca + c * hA, kb = h * cb;   // dkappa/da, dkappa/db
+    ga = dk * ka;
+    gb = dk * kb;
+    if (Haa) {
+      const MatD<2> Hh = (-2.0 * h / gg) * MatD<2>::Identity() + (8.0 * h / (gg * gg)) * a * a.transpose();
+      MatD<2> Cab;
       Cab << 0.0, 1.0, -1.0, 0.0;  // d2c/(da_i db_j)
-      MatX Hk = MatX::Zero(4, 4);
-      Hk.topLeftCorner(2, 2) = ca * hA.transpose() + hA * ca.transpose() + c * Hh;
-      Hk.topRightCorner(2, 2) = h * Cab + hA * cb.transpose();
-      Hk.bottomLeftCorner(2, 2) = Hk.topRightCorner(2, 2).transpose();
-      *HB = gk * gk.transpose() + dk * Hk;
+      *Haa = ka * ka.transpose() + dk * (ca * hA.transpose() + hA * ca.transpose() + c * Hh);
+      *Hab = ka * kb.transpose() + dk * (h * Cab + hA * cb.transpose());
+      *Hbb = kb * kb.transpose();
     }
   } else {
-    // Per EI: 1/2 phi, phi = f u, f = |a|^2 |b|^2 - (a.b)^2 = |a x b|^2, u = |a|^-6.
-    const double beta = b.squaredNorm(), gam = a.dot(b), u = 1.0 / (gg * gg * gg);
+    // 1/2 phi, phi = f u, f = |a|^2 |b|^2 - (a.b)^2 = |a x b|^2, u = |a|^-4 a0^-2.
+    (void)kappa0;
+    const double beta = b.squaredNorm(), gam = a.dot(b), u = 1.0 / (gg * gg * a0 * a0);
     const double f = gg * beta - gam * gam;
-    const VecX fa = 2.0 * beta * a - 2.0 * gam * b, fb = 2.0 * gg * b - 2.0 * gam * a;
-    const VecX ua = (-6.0 * u / gg) * a;
-    gB.head(d) = 0.5 * (u * fa + f * ua);
-    gB.tail(d) = 0.5 * u * fb;
-    if (HB) {
-      const MatX faa = 2.0 * beta * Id - 2.0 * b * b.transpose();
-      const MatX fbb = 2.0 * gg * Id - 2.0 * a * a.transpose();
-      const MatX fab = 4.0 * a * b.transpose() - 2.0 * b * a.transpose() - 2.0 * gam * Id;
-      const MatX uaa = (-6.0 * u / gg) * Id + (48.0 * u / (gg * gg)) * a * a.transpose();
-      HB->resize(6, 6);
-      HB->topLeftCorner(3, 3) = 0.5 * (u * faa + fa * ua.transpose() + ua * fa.transpose() + f * uaa);
-      HB->topRightCorner(3, 3) = 0.5 * (u * fab + ua * fb.transpose());
-      HB->bottomLeftCorner(3, 3) = HB->topRightCorner(3, 3).transpose();
-      HB->bottomRightCorner(3, 3) = 0.5 * u * fbb;
+    const VecD<3> fa = 2.0 * beta * a - 2.0 * gam * b, fb = 2.0 * gg * b - 2.0 * gam * a;
+    const VecD<3> ua = (-4.0 * u / gg) * a;
+    ga = 0.5 * (u * fa + f * ua);
+    gb = 0.5 * u * fb;
+    if (Haa) {
+      const MatD<3> I = MatD<3>::Identity();
+      const MatD<3> faa = 2.0 * beta * I - 2.0 * b * b.transpose();
+      const MatD<3> fbb = 2.0 * gg * I - 2.0 * a * a.transpose();
+      const MatD<3> fab = 4.0 * a * b.transpose() - 2.0 * b * a.transpose() - 2.0 * gam * I;
+      const MatD<3> uaa = (-4.0 * u / gg) * I + (24.0 * u / (gg * gg)) * a * a.transpose();
+      *Haa = 0.5 * (u * faa + fa * ua.transpose() + ua * fa.transpose() + f * uaa);
+      *Hab = 0.5 * (u * fab + ua * fb.transpose());
+      *Hbb = 0.5 * u * fbb;
     }
   }
 }
 
-void AncfCable::elastic(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
-  if (s.dim != dim_ || !s.slopes) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
-  const int d = dim_, n = 4 * d;
+}  // namespace
+
+template <int D>
+void AncfCable::elasticD(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
+  constexpr int n = 4 * D;
   QA.setZero(n);
-  QB.setZero(n);
+  QB.setZero(n);  // QB may be QA, KB may be KA: both are zeroed before anything is added
   if (KA) KA->setZero(n, n);
   if (KB) KB->setZero(n, n);
-  MatX B = MatX::Zero(2 * d, n);  // (r', r'') = B e
-  auto fill = [&](const Point& P) {
-    for (int i = 0; i < 4; ++i) {
-      B.block(0, i * d, d, d) = P.d1[i] * MatX::Identity(d, d);
-      B.block(d, i * d, d, d) = P.d2[i] * MatX::Identity(d, d);
-    }
-    return VecX(B * s.x);
+  const Eigen::Map<const Eigen::Matrix<double, D, 4>> X(s.x.data());  // column i: e_i
+  // Adds the symmetric stiffness of one point, blocks (i, j) = sum of c_ij H, to K.
+  auto addSym = [](MatX& K, auto&& block) {
+    for (int i = 0; i < 4; ++i)
+      for (int j = i; j < 4; ++j) {
+        const MatD<D> B = block(i, j);
+        K.template block<D, D>(i * D, j * D) -= B;
+        if (j != i) K.template block<D, D>(j * D, i * D) -= B.transpose();
+      }
   };
-  VecX g;
-  MatX H;
   for (const Point& P : ptsA_) {
-    const VecX ab = fill(P);
-    axialTerms(P, ab.head(d), g, KA ? &H : nullptr);
-    QA -= P.w * B.transpose() * g;
-    if (KA) *KA -= P.w * B.transpose() * H * B;
+    // Per unit EA: 1/2 eps^2, eps = |a|/a0 - 1; grad eps = a/(|a| a0), Hess eps = (I - n n^T)/(|a| a0).
+    const VecD<D> a = X * P.d1;
+    const double gg = a.squaredNorm(), na = std::sqrt(gg);
+    if (!(na > 0.0)) throw NumericalError("ancf_cable " + name() + ": zero slope r' at a Gauss point");
+    const double eps = na / P.a0 - 1.0;
+    const VecD<D> de = a / (na * P.a0), g = (cA * eps) * de;
+    for (int i = 0; i < 4; ++i) QA.template segment<D>(i * D) -= (P.w * P.d1[i]) * g;
+    if (!KA) continue;
+    const MatD<D> H = (cA * P.w) * (de * de.transpose() +
+                                    (eps / (na * P.a0)) * (MatD<D>::Identity() - a * a.transpose() / gg));
+    addSym(*KA, [&](int i, int j) { return MatD<D>((P.d1[i] * P.d1[j]) * H); });
   }
   for (const Point& P : ptsB_) {
-    const VecX ab = fill(P);
-    bendingTerms(P, ab.head(d), ab.tail(d), g, KB ? &H : nullptr);
-    QB -= P.w * B.transpose() * g;
-    if (KB) *KB -= P.w * B.transpose() * H * B;
+    const VecD<D> a = X * P.d1, b = X * P.d2;
+    if (!(a.squaredNorm() > 0.0)) throw NumericalError("ancf_cable " + name() + ": zero slope r' at a Gauss point");
+    VecD<D> ga, gb;
+    MatD<D> Haa = MatD<D>::Zero(), Hab = MatD<D>::Zero(), Hbb = MatD<D>::Zero();  // (set when KB)
+    bendingTerms<D>(a, b, P.a0, P.kappa0, ga, gb, KB ? &Haa : nullptr, &Hab, &Hbb);
+    const double wc = cB * P.w;
+    for (int i = 0; i < 4; ++i) QB.template segment<D>(i * D) -= wc * (P.d1[i] * ga + P.d2[i] * gb);
+    if (!KB) continue;
+    Haa *= wc;
+    Hab *= wc;
+    Hbb *= wc;
+    addSym(*KB, [&](int i, int j) {
+      return MatD<D>(P.d1[i] * P.d1[j] * Haa + P.d1[i] * P.d2[j] * Hab + P.d2[i] * P.d1[j] * Hab.transpose() +
+                     P.d2[i] * P.d2[j] * Hbb);
+    });
   }
+}
+
+void AncfCable::elastic(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
+  if (s.dim != dim_ || !s.slopes) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
+  if (dim_ == 2)
+    elasticD<2>(s, cA, cB, QA, QB, KA, KB);
+  else
+    elasticD<3>(s, cA, cB, QA, QB, KA, KB);
+}
+
+void AncfCable::force(const LocalState& s, VecX& Q) const {
+  elastic(s, sec_->EA(*s.p), sec_->EI(*s.p), Q, Q, nullptr, nullptr);
+  Q += gravityLoad(s, sec_->rhoA(*s.p));
 }
 
 VecX AncfCable::gravityLoad(const LocalState& s, double rhoA) const {
@@ -271,17 +296,15 @@ VecX AncfCable::gravityLoad(const LocalState& s, double rhoA) const {
 }
 
 void AncfCable::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  VecX QA, QB;
-  MatX KA, KB;
-  elastic(s, QA, QB, &KA, &KB);
-  dQdq = sec_->EA(*s.p) * KA + sec_->EI(*s.p) * KB;
+  VecX Q;
+  elastic(s, sec_->EA(*s.p), sec_->EI(*s.p), Q, Q, &dQdq, &dQdq);
   dQdv.setZero(4 * dim_, 4 * dim_);
 }
 
 bool AncfCable::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   if (!sec_->axialDependsOn(k) && !sec_->bendingDependsOn(k)) return false;
   VecX QA, QB;
-  elastic(s, QA, QB, nullptr, nullptr);
+  elastic(s, 1.0, 1.0, QA, QB, nullptr, nullptr);
   const double drhoA = sec_->drhoA(*s.p, k);
   dQ = sec_->dEA(*s.p, k) * QA + sec_->dEI(*s.p, k) * QB + gravityLoad(s, drhoA);
   const int d = dim_;
@@ -316,10 +339,10 @@ double AncfCable::potential(const LocalState& s) const {
     const double gg = a.squaredNorm();
     double wb;
     if (d == 2) {
-      const double kappa = (a[0] * b[1] - a[1] * b[0]) / (gg * std::sqrt(gg));
+      const double kappa = (a[0] * b[1] - a[1] * b[0]) / (gg * P.a0);
       wb = (kappa - P.kappa0) * (kappa - P.kappa0);
     } else {
-      wb = Eigen::Vector3d(a).cross(Eigen::Vector3d(b)).squaredNorm() / (gg * gg * gg);
+      wb = Eigen::Vector3d(a).cross(Eigen::Vector3d(b)).squaredNorm() / (gg * gg * P.a0 * P.a0);
     }
     U += P.w * 0.5 * EI * wb;
   }

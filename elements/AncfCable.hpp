@@ -6,9 +6,14 @@
 // Energy  U = int_0^L [ EA/2 eps^2 + EI/2 w_b ] ds0  by Gauss quadrature, with
 //  - engineering axial strain eps = |r'| / |r0'| - 1: the law of BeamSegment, so the two beams
 //    agree at any stretch, and a uniform stretch gives the axial force EA eps exactly;
-//  - bending, planar: w_b = (kappa - kappa0)^2, kappa = (r' x r'') / |r'|^3 the exact signed
-//    curvature (invariant under rigid motion for any rest shape, exact in large deflection);
-//    spatial (the gradient-deficient cable, no torsion): w_b = |r' x r''|^2 / |r'|^6 = kappa^2,
+//  - bending, planar: w_b = (kappa - kappa0)^2 with the material curvature
+//    kappa = (r' x r'') / (|r'|^2 |r0'|) = d(theta)/ds0, the tangent's rotation per reference
+//    length (Reissner's bending strain, as the positions-only beam's hinge angle / l0 and
+//    Gerstmayr & Irschik's cable); invariant under rigid motion for any rest shape, exact in
+//    large deflection. The Frenet curvature (r' x r'')/|r'|^3 (per deformed length, used here
+//    until 2026-11-24) differs by the factor 1 + eps: in the pendulum bench (eps ~ 1e-3) it
+//    moved the converged tip by ~1e-4 m away from the positions-only beam's limit;
+//    spatial (the gradient-deficient cable, no torsion): w_b = |r' x r''|^2 / (|r'|^4 |r0'|^2),
 //    smooth at straight states, so the rest shape must be straight.
 // The simpler measure |r''|^2 (constant stiffness) was not chosen: it is not invariant for
 // curved rest shapes and mixes the stretch gradient into bending.
@@ -44,6 +49,8 @@ class AncfCable : public KernelElement<AncfCable> {
   static constexpr int kAxialPoints = 3, kBendingPoints = 3;
   std::string kind() const override { return "ancf_cable"; }
   bool usesSlopes() const override { return true; }
+  /// The hand-coded force (fixed-size kernels); forceT is its value template, for AD.
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
@@ -64,13 +71,13 @@ class AncfCable : public KernelElement<AncfCable> {
     double a0;               ///< |r0'| at the point [-]
     double kappa0;           ///< planar rest curvature [1/m] (0 in 3D)
   };
-  /// Per-unit-stiffness energy density gradient w.r.t. (r', r'') (2 dim) at one point, axial
-  /// (per EA) or bending (per EI), and optionally its Hessian. Double only.
-  void axialTerms(const Point& P, const VecX& a, VecX& g, MatX* H) const;
-  void bendingTerms(const Point& P, const VecX& a, const VecX& b, VecX& g, MatX* H) const;
   std::vector<Point> makePoints(const VecX& restX, int n, bool checkStraight) const;
-  /// Elastic force per unit EA (QA) and per unit EI (QB), and optional stiffnesses.
-  void elastic(const LocalState& s, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
+  /// Axial elastic force times cA (QA), bending force times cB (QB) and optional stiffnesses
+  /// dQ/dq; (cA, cB) = (1, 1): per unit EA and EI, (EA, EI): the force. QB may be QA and KB
+  /// may be KA: the two parts then add up in one vector / matrix.
+  void elastic(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
+  template <int D>
+  void elasticD(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const;
   VecX gravityLoad(const LocalState& s, double rhoA) const;
 
   std::vector<const Quantity*> kernelProperties() const {

@@ -3,6 +3,8 @@
 // a slope. A node's slope is the scene's `slope` (a direction) or else the chain's tangent
 // there: the direction of the adjacent segment at the ends, the mean of the two adjacent unit
 // directions inside. A ground node is pinned (its slope free) unless it is `clamped`.
+#include <map>
+
 #include "elements/AncfCable.hpp"
 #include "elements/BeamSectionReader.hpp"
 #include "scene/KindTable.hpp"
@@ -60,6 +62,7 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
       rest << a.position, a.slope, b.position, b.slope;
     }
     try {
+      ctx.slopeLinks.push_back({ids[j], ids[j + 1]});
       m.elements.push_back(std::make_unique<AncfCable>(name + ".element" + std::to_string(j),
                                                        std::vector<int>{ids[j], ids[j + 1]}, sec, rest,
                                                        axialPoints));
@@ -67,6 +70,44 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
       r.fail(nodeKey(j + 1), nodePath(j + 1), std::string(e.what()) + (d == 3 ? " (or rest_shape: straight)" : ""));
     }
   }
+}
+
+// Initial slope rates. A scene gives node velocities; the slopes' rates follow from the motion
+// of each element's chord d = r_b - r_a: dv = v_b - v_a = w x d + e d (rotation w normal to d,
+// stretch rate e = d.dv / |d|^2, w = d x dv / |d|^2), applied to the slope: r_s' = w x r_s + e r_s.
+// Exact for any rigid motion of a planar chain (curved or not) and of a straight spatial one (a
+// spin about the chord moves no slope along it); a node between two elements takes the mean.
+// Clamped slopes have no rate; a slope rate is zero where its elements only translate.
+void deriveSlopeRates(SceneContext& ctx) {
+  Model& m = ctx.m;
+  const int d = m.dim;
+  std::map<int, std::pair<VecX, int>> sum;  // node -> (sum of candidates, count)
+  for (const auto& [ia, ib] : ctx.slopeLinks) {
+    const Node &a = m.nodes[ia], &b = m.nodes[ib];
+    Eigen::Vector3d ch = Eigen::Vector3d::Zero(), dv = Eigen::Vector3d::Zero();
+    ch.head(d) = b.position.head(d) - a.position.head(d);
+    if (a.velocity.size()) dv.head(d) -= a.velocity.head(d);
+    if (b.velocity.size()) dv.head(d) += b.velocity.head(d);
+    const double dd = ch.squaredNorm();
+    const Eigen::Vector3d w = ch.cross(dv) / dd;  // planar: along the third axis
+    const double e = ch.dot(dv) / dd;
+    for (int id : {ia, ib}) {
+      const Node& nd = m.nodes[id];
+      if (!nd.slopeFree()) continue;
+      Eigen::Vector3d r1 = Eigen::Vector3d::Zero();
+      r1.head(d) = nd.slope;
+      const VecX rate = (w.cross(r1) + e * r1).head(d);
+      auto it = sum.find(id);
+      if (it == sum.end())
+        sum[id] = {rate, 1};
+      else {
+        it->second.first += rate;
+        it->second.second++;
+      }
+    }
+  }
+  for (auto& [id, sc] : sum)
+    if (m.nodes[id].slopeRate.size() == 0) m.nodes[id].slopeRate = sc.first / sc.second;
 }
 
 }  // namespace flexsens

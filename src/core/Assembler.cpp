@@ -356,6 +356,23 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
   }
 }
 
+void Assembler::addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v,
+                                        const VecX& p, double sm, double sq, double sv, int64_t r0,
+                                        int64_t c0) const {
+  MatX Kq, Kv, Ml;
+  const VecX none;
+  const VecX q0 = model_.initialPositions();  // mass is configuration independent
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    elementForceJacobian(el, localState(el, q, v, p), Kq, Kv);
+    const double lf = el.isLoad() ? loadFactor_ : 1.0;
+    Kq *= -sq * lf;
+    if (sv != 0.0) Kq -= (sv * lf) * Kv;
+    if (sm != 0.0 && el.mass(localState(el, q0, none, p), Ml)) Kq += sm * Ml;
+    acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, 1.0, r0, c0);
+  }
+}
+
 void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, double s,
                         int64_t r0, int64_t c0, bool transposed) const {
   MatX J;

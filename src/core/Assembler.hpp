@@ -81,6 +81,10 @@ class Assembler {
   /// Adds -sq dQ/dq at (r0, cq) and -sv dQ/dv at (r0, cv).
   void addForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v, const VecX& p,
                         double sq, double sv, int64_t r0, int64_t cq, int64_t cv) const;
+  /// sm M - sq dQ/dq - sv dQ/dv at (r0, c0), one block per element: the fixed-step Newton
+  /// matrix's top-left block with a third of the scatter of addMass + addForceJacobian.
+  void addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v, const VecX& p,
+                               double sm, double sq, double sv, int64_t r0, int64_t c0) const;
   /// Phi_q at (r0, c0), or Phi_q^T when transposed.
   void addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, double s, int64_t r0,
                int64_t c0, bool transposed) const;

@@ -71,8 +71,7 @@ SpMat newtonMatrix(const Assembler& as, SparseAccumulator& acc, const VecX& q, c
   const int n = as.n(), m = as.m();
   const double sigma = 1.0 / sc.ca;
   acc.begin(n + m, n + m);
-  as.addMass(acc, p, 1.0, 0, 0);
-  as.addForceJacobian(acc, q, v, p, sigma, sigma * sc.cv, 0, 0, 0);
+  as.addMassAndForceJacobian(acc, q, v, p, 1.0, sigma, sigma * sc.cv, 0, 0);
   as.addHessian(acc, q, p, lt, 1.0, 0, 0);
   as.addPhiQ(acc, q, p, 1.0, 0, n, true);
   as.addPhiQ(acc, q, p, 1.0, n, 0, false);

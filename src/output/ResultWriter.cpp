@@ -168,10 +168,20 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
     return a;
   };
   auto pos = vectorArray("position"), disp = vectorArray("displacement"), vel = vectorArray("velocity");
-  std::vector<vtkSmartPointer<vtkDoubleArray>> dq, dv;
+  std::vector<vtkSmartPointer<vtkDoubleArray>> dq, dv, ds;
   for (size_t k = 0; k < s.dp.size(); ++k) {
     dq.push_back(vectorArray("dq/d" + m.parameters[k].name));
     dv.push_back(vectorArray("dv/d" + m.parameters[k].name));
+  }
+  // Nodes say what they carry: when some carry a slope (ANCF), the slope r' = dr/ds [-], its
+  // rate [1/s] and its sensitivities are point-data vectors too (zero on nodes without one).
+  bool slopes = false;
+  for (const Node& nd : m.nodes) slopes = slopes || nd.hasSlope();
+  vtkSmartPointer<vtkDoubleArray> slope, slopeRate;
+  if (slopes) {
+    slope = vectorArray("slope");
+    slopeRate = vectorArray("slope_rate");
+    for (size_t k = 0; k < s.dp.size(); ++k) ds.push_back(vectorArray("dslope/d" + m.parameters[k].name));
   }
   for (size_t i = 0; i < m.nodes.size(); ++i) {
     double x[3] = {0, 0, 0}, x0[3] = {0, 0, 0}, v[3] = {0, 0, 0};
@@ -196,11 +206,25 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       dq[k]->SetTuple(i, sq[k].data());
       dv[k]->SetTuple(i, sv[k].data());
     }
+    if (!slopes) continue;
+    double r1[3] = {0, 0, 0}, w1[3] = {0, 0, 0};
+    std::vector<std::array<double, 3>> sr(s.dp.size(), {0, 0, 0});
+    if (m.nodes[i].hasSlope())
+      for (int c = 0; c < m.dim; ++c) {
+        const int a = m.dim == 3 ? c : axis3(m, c);
+        const int d = m.dof(static_cast<int>(i), m.dim + c);  // -1: clamped, fixed slope
+        r1[a] = m.coordinate(s.x.q, static_cast<int>(i), m.dim + c);
+        w1[a] = d < 0 ? 0.0 : s.x.v[d];
+        for (size_t k = 0; k < s.dp.size(); ++k) sr[k][a] = d < 0 ? 0.0 : s.dp[k].q[d];
+      }
+    slope->SetTuple(i, r1);
+    slopeRate->SetTuple(i, w1);
+    for (size_t k = 0; k < s.dp.size(); ++k) ds[k]->SetTuple(i, sr[k].data());
   }
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(pts);
   vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable
   id->SetName("element_id");
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
@@ -215,7 +239,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       vtkIdType ids[2] = {l[0], l[1]};
       grid->InsertNextCell(VTK_LINE, 2, ids);
       kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3
-                                                  : k == "rigid_body" ? 4 : 0);
+                                                  : k == "rigid_body" ? 4 : k == "ancf_cable" ? 6 : 0);
       id->InsertNextValue(static_cast<int>(e));
     }
   }
@@ -290,6 +314,11 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   for (size_t k = 0; k < dq.size(); ++k) {
     grid->GetPointData()->AddArray(dq[k]);
     grid->GetPointData()->AddArray(dv[k]);
+  }
+  if (slopes) {
+    grid->GetPointData()->AddArray(slope);
+    grid->GetPointData()->AddArray(slopeRate);
+    for (const auto& a : ds) grid->GetPointData()->AddArray(a);
   }
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());

@@ -8,6 +8,17 @@
 
 namespace flexsens {
 
+/// A node SDOF's or output's component: an axis, or for a node that carries a slope (ANCF) an axis with a
+/// prime, the slope's component ("x'" = dx/ds); returned as in Model::dof.
+int nodeComponent(const SceneContext& ctx, int nd, const YAML::Node& n, const std::string& path) {
+  const std::string t = ctx.r.text(n, path);
+  const int c = t.size() == 2 && t[1] == '\'' ? axisIndex(ctx.m, t.substr(0, 1)) : -1;
+  if (c < 0) return component(ctx, n, path);
+  if (!ctx.m.nodes[nd].hasSlope())
+    ctx.r.fail(n, path, "node '" + ctx.m.nodes[nd].name + "' carries no slope (it is on no ancf_cable); expected an axis");
+  return ctx.m.dim + c;
+}
+
 namespace {
 
 /// The listed bodies (names under `key`), checked to exist as flexible bodies.
@@ -71,16 +82,6 @@ std::unique_ptr<Sdof> readBodySdof(SceneContext& ctx, const YAML::Node& z, const
   return s;
 }
 
-/// A node SDOF's component: an axis, or for a node that carries a slope (ANCF) an axis with a
-/// prime, the slope's component ("x'" = dx/ds); returned as in Model::dof.
-int nodeComponent(const SceneContext& ctx, int nd, const YAML::Node& n, const std::string& path) {
-  const std::string t = ctx.r.text(n, path);
-  const int c = t.size() == 2 && t[1] == '\'' ? axisIndex(ctx.m, t.substr(0, 1)) : -1;
-  if (c < 0) return component(ctx, n, path);
-  if (!ctx.m.nodes[nd].hasSlope())
-    ctx.r.fail(n, path, "node '" + ctx.m.nodes[nd].name + "' carries no slope (it is on no ancf_cable); expected an axis");
-  return ctx.m.dim + c;
-}
 std::string componentName(const Model& m, int c) {
   return c < m.dim ? std::string(1, m.axisName(c)) : std::string(1, m.axisName(c - m.dim)) + "'";
 }

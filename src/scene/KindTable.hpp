@@ -31,6 +31,9 @@ void readPointForce(SceneContext&, const YAML::Node&, const std::string&, const 
 void readPointTorque(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPlanarRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readAncfCable(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+/// After the elements: the initial slope rates of free ANCF slopes from the nodes' velocities
+/// (elements/AncfCableReader.cpp).
+void deriveSlopeRates(SceneContext& ctx);
 void readBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readSolid(SceneContext&, const YAML::Node&, const std::string&, const std::string&);

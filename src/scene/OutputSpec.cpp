@@ -21,8 +21,7 @@ VecX angleCoordinates(const Model& m, const std::vector<int>& nodes, const VecX&
 
 double OutputSpec::value(const Model& m, const VecX& q) const {
   if (!angle.empty()) return jointAngleT<double>(angleCoordinates(m, angle, q, false), nullptr);
-  const int d = m.dof(node, component);
-  return d < 0 ? m.nodes[node].position[component] : q[d];
+  return m.coordinate(q, node, component);  // a position, or a slope component (ANCF)
 }
 
 double OutputSpec::derivative(const Model& m, const VecX& q, const VecX& dq) const {

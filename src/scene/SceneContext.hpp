@@ -93,6 +93,7 @@ class SceneContext {
   };
   std::map<int, SlopeKey> givenSlopes, clamps;
   std::set<int> slopeUsers;  ///< nodes whose slope an element uses
+  std::vector<std::pair<int, int>> slopeLinks;  ///< node pairs of the ANCF elements (a, b)
   /// After the elements: every slope given is used by an element, every clamp has one to fix.
   void checkSlopes() const;
 

@@ -31,6 +31,9 @@ std::unique_ptr<PimCase> readPimCase(SceneContext& ctx, const YAML::Node& c, con
 int axisIndex(const Model& m, const std::string& a);
 /// A component name read at `n`; fails listing the scene's axes.
 int component(const SceneContext& ctx, const YAML::Node& n, const std::string& path);
+/// A node's component: an axis, or `x'`... (the slope's component) for a node with a slope;
+/// returned as in Model::dof (dim + c for a slope component).
+int nodeComponent(const SceneContext& ctx, int nd, const YAML::Node& n, const std::string& path);
 
 void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSettings& s);
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s);

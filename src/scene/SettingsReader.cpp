@@ -72,7 +72,7 @@ void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc) {
       continue;
     }
     spec.node = ctx.node(r.require(o, "node", path), path + ".node");
-    spec.component = component(ctx, r.require(o, "component", path), path + ".component");
+    spec.component = nodeComponent(ctx, spec.node, r.require(o, "component", path), path + ".component");
     sc.outputs.push_back(spec);
   }
 }
