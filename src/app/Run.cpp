@@ -212,6 +212,7 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
 }  // namespace
 
 RunResult runScene(const Scene& sc, const std::string& outDir) {
+  sc.requireDynamics();  // a massless direction nothing restrains: an input error, not a failed run
   const auto t0 = std::chrono::steady_clock::now();
   const Model& m = *sc.model;
   // ad: the same tangent linear model with partials from forward-mode AD of the kernels.

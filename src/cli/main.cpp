@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
       // Exit 2 (numerical) when Phi_q is rank deficient at the initial positions: like `run`,
       // the scene reads fine and the defect is one of the configuration, not of a file line.
       Scene sc = readScene(modesPath);
+      sc.requireDynamics();
       Assembler as(*sc.model);
       const VecX p = sc.model->nominalParameters();
       if (!sc.model->redundantRows.empty()) {  // left out by the reader; the modes are those of the rest
@@ -131,6 +132,7 @@ int main(int argc, char** argv) {
     }
     if (*check) {
       Scene sc = readScene(checkPath);
+      sc.requireDynamics();
       const Model& m = *sc.model;
       std::cout << checkPath << ": valid\n"
                 << "  dimension " << m.dim << ", n = " << m.n << " coordinates, m = " << m.m
@@ -181,6 +183,7 @@ int main(int argc, char** argv) {
     if (!ndScheme.empty()) opt.ndScheme = ndScheme;
     installInterruptHandlers();
     Scene base = readScene(scenePath);
+    base.requireDynamics();
     if (cases.empty()) cases = base.caseNames;
     if (cases.empty()) cases.push_back("");
     // Validate every requested case (and the options) before anything is written.

@@ -53,6 +53,12 @@ struct Scene {
   OutputSettings output;
   std::vector<std::string> caseNames;  ///< all PIM cases the scene defines, in order
   std::unique_ptr<PimCase> pimCase;    ///< the case this model was built for, if any
+  /// An input error that only integration needs to raise (a massless direction nothing
+  /// restrains, with file:line and key); run, check and modes throw it. Empty: none.
+  std::string dynamicsError;
+  void requireDynamics() const {
+    if (!dynamicsError.empty()) throw InputError(dynamicsError);
+  }
 };
 
 /// Reads and validates a scene file; throws InputError naming file:line, key and expectation.

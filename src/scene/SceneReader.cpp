@@ -141,7 +141,7 @@ void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelecti
 
 /// A free node nothing acts on has no mass and no equation: `check` must not call valid what
 /// every integrator can only fail on (ModelChecks.hpp says which massless nodes pass).
-void requireMass(const SceneContext& ctx, const YAML::Node& root) {
+void requireMass(const SceneContext& ctx, const YAML::Node& root, Scene& sc) {
   for (int id : nodesActedOnByNothing(ctx.m)) {
     const std::string& name = ctx.m.nodes[id].name;
     const std::string what = "free node '" + name + "' belongs to no element or constraint: it has no mass "
@@ -153,8 +153,11 @@ void requireMass(const SceneContext& ctx, const YAML::Node& root) {
   }
   // Touched, but with a massless direction nothing restrains (a node held by one spring or one
   // distance only): the same singular matrix at the first step, so the same input error.
+  // Kept as the scene's `dynamicsError`, raised by run, check and modes (not by the reader:
+  // kernel tests build such models on purpose to check derivatives only).
   const UnrestrainedMassless u = unrestrainedMasslessDirection(ctx.m);
   if (u.nodes.empty()) return;
+  try {
   const std::string& name = ctx.m.nodes[u.nodes.front()].name;
   const std::string what = "node '" + name + "' has no mass in the direction " + u.direction +
                            " and no stiffness, damping or constraint restrains it there at the initial "
@@ -164,6 +167,9 @@ void requireMass(const SceneContext& ctx, const YAML::Node& root) {
   for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i)
     if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
   ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);
+  } catch (const InputError& e) {
+    sc.dynamicsError = e.what();
+  }
 }
 
 Scene build(const std::string& file, const YAML::Node& root, const std::string& caseName) {
@@ -220,7 +226,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (root["outputs"]) readOutputs(ctx, root["outputs"], sc);
   readOutputSettings(r, root["output"], sc);
   if (m.n == 0) r.fail(root["nodes"], "nodes", "the scene has no free node: nothing can move");
-  requireMass(ctx, root);
+  requireMass(ctx, root, sc);
   return sc;
 }
 
