@@ -139,17 +139,22 @@ void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelecti
       if (!seen.count(name)) r.fail(node, sel->paramsPath, "no parameter named '" + name + "' under parameters");
 }
 
+/// Fails at node `name`'s entry under `nodes`, or at `geometry` for a node from Gmsh.
+[[noreturn]] void failAtNode(const SceneContext& ctx, const YAML::Node& root, const std::string& name,
+                             const std::string& what) {
+  const YAML::Node list = root["nodes"];
+  for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i)
+    if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
+  ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);
+}
+
 /// A free node nothing acts on has no mass and no equation: `check` must not call valid what
 /// every integrator can only fail on (ModelChecks.hpp says which massless nodes pass).
 void requireMass(const SceneContext& ctx, const YAML::Node& root, Scene& sc) {
   for (int id : nodesActedOnByNothing(ctx.m)) {
     const std::string& name = ctx.m.nodes[id].name;
-    const std::string what = "free node '" + name + "' belongs to no element or constraint: it has no mass "
-                             "and no equation; connect it to a massive element, make it ground, or remove it";
-    const YAML::Node list = root["nodes"];
-    for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i)
-      if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
-    ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);  // a Gmsh node
+    failAtNode(ctx, root, name, "free node '" + name + "' belongs to no element or constraint: it has no mass "
+                                "and no equation; connect it to a massive element, make it ground, or remove it");
   }
   // Touched, but with a massless direction nothing restrains (a node held by one spring or one
   // distance only): the same singular matrix at the first step, so the same input error.
@@ -157,16 +162,13 @@ void requireMass(const SceneContext& ctx, const YAML::Node& root, Scene& sc) {
   // kernel tests build such models on purpose to check derivatives only).
   const UnrestrainedMassless u = unrestrainedMasslessDirection(ctx.m);
   if (u.nodes.empty()) return;
-  try {
   const std::string& name = ctx.m.nodes[u.nodes.front()].name;
-  const std::string what = "node '" + name + "' has no mass in the direction " + u.direction +
-                           " and no stiffness, damping or constraint restrains it there at the initial "
-                           "state (every integrator's matrix is singular); give it mass (an element with "
-                           "density), a constraint in that direction, or a stiffness";
-  const YAML::Node list = root["nodes"];
-  for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i)
-    if (list[i]["name"] && list[i]["name"].Scalar() == name) ctx.r.fail(list[i], at("nodes", i), what);
-  ctx.r.fail(root["geometry"] ? root["geometry"] : root, "geometry", what);
+  try {
+    failAtNode(ctx, root, name,
+               "node '" + name + "' has no mass in the direction " + u.direction +
+                   " and no stiffness, damping or constraint restrains it there at the initial state (every "
+                   "integrator's matrix is singular); give it mass (an element with density), a constraint in "
+                   "that direction, or a stiffness");
   } catch (const InputError& e) {
     sc.dynamicsError = e.what();
   }
