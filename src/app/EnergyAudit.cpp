@@ -8,54 +8,66 @@
 
 namespace flexsens {
 
-void EnergyAudit::frame(const StateWithSens& s) {
-  next_.frame(s);  // the writer first: a non-finite state is its error to report
-  const Energy e = meter_.at(s.x.q, s.x.v);
+void EnergyAudit::stepped(const State& x) {
+  next_.stepped(x);
+  const Energy e = meter_.at(x.q, x.v);
+  const double P = meter_.power(x);
   if (!started_) {
     started_ = true;
     e0_ = e.total();
     vMin_ = vMax_ = e.potential;
+  } else {
+    work_ += 0.5 * (x.t - tLast_) * (P + pLast_);  // NaN from here on when P is unknown
   }
+  pLast_ = P;
+  tLast_ = x.t;
+  eLast_ = e.total();
   tMax_ = std::max(tMax_, e.kinetic);
   vMin_ = std::min(vMin_, e.potential);
   vMax_ = std::max(vMax_, e.potential);
-  eLast_ = e.total();
-  tLast_ = s.x.t;
-  if (eLast_ - e0_ > maxRise_) {
-    maxRise_ = eLast_ - e0_;
-    tRise_ = s.x.t;
-  }
+  wMax_ = std::max(wMax_, std::abs(work_));
+  const double balance = eLast_ - e0_ - work_;
+  if (balance > maxRise_) maxRise_ = balance, tRise_ = x.t;
+  if (-balance > maxLoss_) maxLoss_ = -balance, tLoss_ = x.t;
 }
 
-// The motion's own energy: the largest kinetic energy or swing of the potential. A model at
-// rest has neither; then the floor 1e-9 |V| keeps round-off in V from counting as a rise.
+// The motion's own energy: the largest kinetic energy, swing of the potential or work done on
+// it. A model at rest has none; then the floor 1e-9 |V| keeps round-off in V from counting.
 double EnergyAudit::scale() const {
   const double floor = 1e-9 * std::max({std::abs(e0_), std::abs(vMin_), std::abs(vMax_)}) + 1e-300;
-  return std::max({tMax_, vMax_ - vMin_, floor});
-}
-
-bool EnergyAudit::suspect() const {
-  return notJudged_.empty() && tolerance_ > 0 && maxRise_ > tolerance_ * scale();
+  return std::max({tMax_, vMax_ - vMin_, wMax_, floor});
 }
 
 std::string EnergyAudit::reason() const {
-  if (!suspect()) return "";
+  if (!judged()) return "";
   std::ostringstream os;
-  os << "energy audit: the total mechanical energy rose by " << maxRise_ << " J (largest at t = " << tRise_
-     << " s), " << maxRise_ / scale() << " times the run's energy scale " << scale()
-     << " J, above the tolerance " << tolerance_ << " (integrator.energy_tolerance); a passive model cannot gain "
-     << "energy: the motion is wrong (e.g. a branch switch at a singular configuration, or a step too large for "
-     << "the fastest mode). Try a smaller dt, generalized_alpha with rho_inf < 1, or IDAS";
+  if (riseTol_ > 0 && maxRise_ > riseTol_ * scale()) {
+    os << "energy audit: the energy balance E - E0 - W (W: work of dampers, loads and drivers) rose by " << maxRise_
+       << " J (largest at t = " << tRise_ << " s), " << maxRise_ / scale() << " times the run's energy scale "
+       << scale() << " J, above the tolerance " << riseTol_ << " (integrator.energy_tolerance); a motion cannot "
+       << "gain energy nothing supplied: it is wrong (e.g. a branch switch at a singular configuration, or a step "
+       << "too large for the fastest mode). Try a smaller dt, generalized_alpha with rho_inf < 1, or IDAS";
+  } else if (lossTol_ > 0 && maxLoss_ > lossTol_ * scale()) {
+    os << "energy audit: the integrator dissipated " << maxLoss_ << " J that no damper or load took out (largest "
+       << "at t = " << tLoss_ << " s), " << maxLoss_ / scale() << " times the run's energy scale " << scale()
+       << " J, above the tolerance " << lossTol_ << " (integrator.energy_loss_tolerance): numerical damping "
+       << "changes the motion. Try a smaller dt, the trapezoidal rule or generalized_alpha with rho_inf nearer 1, "
+       << "or IDAS";
+  }
   return os.str();
 }
 
 std::string EnergyAudit::json() const {
   std::ostringstream os;
   os << "{\"initial_J\": " << jsonNumber(e0_) << ", \"final_J\": " << jsonNumber(eLast_)
+     << ", \"work_J\": " << jsonNumber(work_) << ", \"balance_J\": " << jsonNumber(eLast_ - e0_ - work_)
      << ", \"max_rise_J\": " << jsonNumber(maxRise_) << ", \"max_rise_t\": " << jsonNumber(tRise_)
-     << ", \"scale_J\": " << jsonNumber(scale()) << ", \"tolerance\": " << jsonNumber(tolerance_)
-     << ", \"suspect\": " << (suspect() ? "true" : "false") << ", \"judged\": " << (notJudged_.empty() ? "true" : "false");
-  if (!notJudged_.empty()) os << ", \"not_judged\": " << jsonString(notJudged_);
+     << ", \"max_loss_J\": " << jsonNumber(maxLoss_) << ", \"max_loss_t\": " << jsonNumber(tLoss_)
+     << ", \"scale_J\": " << jsonNumber(scale()) << ", \"tolerance\": " << jsonNumber(riseTol_)
+     << ", \"loss_tolerance\": " << jsonNumber(lossTol_) << ", \"suspect\": " << (suspect() ? "true" : "false")
+     << ", \"judged\": " << (judged() ? "true" : "false");
+  if (!judged())
+    os << ", \"not_judged\": " << jsonString(started_ ? "the drivers' multipliers were not available" : "no state reached");
   os << "}";
   return os.str();
 }

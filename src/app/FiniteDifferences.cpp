@@ -11,10 +11,13 @@ namespace {
 /// Keeps every frame of a run (perturbed runs are combined frame by frame afterwards).
 struct FrameStore : Observer {
   std::vector<State> frames;
-  Observer* forward = nullptr;  ///< the nominal run also reports progress
+  Observer* forward = nullptr;  ///< the nominal run also reports progress and its steps
   void frame(const StateWithSens& s) override { frames.push_back(s.x); }
   void progress(double t) override {
     if (forward) forward->progress(t);
+  }
+  void stepped(const State& x) override {
+    if (forward) forward->stepped(x);
   }
   void reached(const IntegratorStats& st) override {
     if (forward) forward->reached(st);

@@ -234,17 +234,7 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   RunDirectory dir(outDir);
   const EnergyMeter meter(as, p);
   ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
-  EnergyAudit audit(meter, writer, sc.integrator.energyTolerance);
-  {
-    std::string active;
-    for (const auto& c : m.constraints)
-      if (c->rheonomic()) active += (active.empty() ? "" : ", ") + c->name();
-    for (const auto& e : m.elements)
-      if (e->externalWork()) active += (active.empty() ? "" : ", ") + e->name();
-    if (!active.empty())
-      audit.notJudged("drivers or loads that do external work (" + active +
-                      "): the energy of a non-passive model may rise");
-  }
+  EnergyAudit audit(meter, writer, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
   RunHealth health(as, p, audit);
   RunResult res;
   res.directory = outDir;
@@ -279,6 +269,11 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   } catch (const Interrupted& e) {
     finish("interrupted", e.what(), writer.statistics());
     throw;
+  } catch (const NumericalError& e) {
+    // A failure next to a singular configuration says so (the N-four-bar's collinear passage).
+    const std::string what = e.what() + health.failureHint();
+    finish("failed", what, writer.statistics());
+    throw NumericalError(what);
   } catch (const std::exception& e) {
     finish("failed", e.what(), writer.statistics());
     throw;

@@ -10,7 +10,7 @@
 
 namespace flexsens {
 
-RunHealth::RunHealth(const Assembler& as, const VecX& p, Observer& next) : as_(as), p_(p), next_(next) {
+RunHealth::RunHealth(const Assembler& as, const VecX& p, Observer& next) : ForwardingObserver(next), as_(as), p_(p) {
   const Model& m = as.model();
   if (!m.nodes.empty()) {
     VecX lo = m.nodes[0].position, hi = lo;
@@ -56,6 +56,16 @@ std::string RunHealth::reason() const {
        << "(a branch switch at a singular configuration, smallest sigma(Phi_q) ratio " << cond_ << " at t = " << tCond_
        << " s) or in chaotic motion: try generalized_alpha or a smaller dt, and compare";
   }
+  return os.str();
+}
+
+std::string RunHealth::failureHint() const {
+  if (!condChecked_ || !(cond_ < kNearSingular)) return "";
+  std::ostringstream os;
+  os << "; the constraint Jacobian was near rank loss before (smallest sigma_min/sigma_max of Phi_q "
+     << cond_ << " at the frame t = " << tCond_ << " s): a singular configuration (e.g. bars passing a collinear "
+     << "position), where the motion may switch branch; generalized_alpha (rho_inf < 1) passes such "
+     << "configurations, or give the scene a driver or geometry that avoids them";
   return os.str();
 }
 

@@ -21,22 +21,23 @@ namespace flexsens {
 inline constexpr double kLeftOutTolerance = 1e-6;    ///< |Phi| of a left-out row [m or its unit]
 inline constexpr double kSensitivityBlowUp = 1e3;    ///< relative sensitivity |dq/dp| |p| / L [-]
 inline constexpr double kConditioningWork = 1e8;     ///< m^2 n per frame above which it is skipped
+inline constexpr double kNearSingular = 0.05;        ///< sigma_min / sigma_max of Phi_q [-]
 
-class RunHealth : public Observer {
+class RunHealth : public ForwardingObserver {
  public:
   RunHealth(const Assembler& as, const VecX& p, Observer& next);
   void frame(const StateWithSens& s) override;
-  void progress(double t) override { next_.progress(t); }
-  void reached(const IntegratorStats& st) override { next_.reached(st); }
   /// Plain words when a left-out row drifted or a sensitivity blew up; empty otherwise.
   std::string reason() const;
+  /// For a failed run's message: when Phi_q came near rank loss at a frame (sigma ratio below
+  /// kNearSingular), "; " and where, in plain words; empty otherwise.
+  std::string failureHint() const;
   /// summary.json's "health" object.
   std::string json() const;
 
  private:
   const Assembler& as_;
   const VecX& p_;
-  Observer& next_;
   double size_ = 1.0;  ///< L [m]
   double leftOut_ = 0.0, tLeftOut_ = 0.0;
   double sens_ = 0.0, tSens_ = 0.0, sensFirst_ = -1.0;  ///< largest, its time, first time past the limit

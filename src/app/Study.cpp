@@ -209,8 +209,8 @@ class Probe {
       if (scene_.outputs[i].name == mech.output) index_ = int(i);
     if (index_ < 0) throw std::logic_error("study: scene of " + mech.key + " has no output " + mech.output);
   }
-  double value(const StateWithSens& s) const { return out().value(*scene_.model, s.x.q); }
-  double sens(const StateWithSens& s, int k = 0) const { return out().derivative(*scene_.model, s.x.q, s.dp[k].q); }
+  double value(const StateWithSens& s) const { return out().value(*scene_.model, s.x); }
+  double sens(const StateWithSens& s, int k = 0) const { return out().derivative(*scene_.model, s.x, s.dp[k]); }
 
  private:
   const OutputSpec& out() const { return scene_.outputs[index_]; }

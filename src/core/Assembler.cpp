@@ -330,6 +330,21 @@ double Assembler::potentialEnergy(const VecX& q, const VecX& p) const {
   return U;
 }
 
+VecX Assembler::conservativeForce(const VecX& q, const VecX& p) const {
+  VecX Q = VecX::Zero(n()), Ql;
+  const VecX rest = VecX::Zero(n());
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    if (el.externalWork()) continue;  // no potential: all its force is work
+    el.force(localState(el, q, rest, p), Ql);
+    if (el.isLoad()) Ql *= loadFactor_;
+    const auto& map = elemDofs_[e];
+    for (size_t i = 0; i < map.size(); ++i)
+      if (map[i] >= 0) Q[map[i]] += Ql[i];
+  }
+  return Q;
+}
+
 // ----------------------------------------------------------------------------- blocks
 void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0,
                         int64_t c0) const {

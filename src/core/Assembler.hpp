@@ -75,6 +75,15 @@ class Assembler {
   /// Constant mass matrix M(p) (elements' masses do not depend on q).
   SpMat mass(const VecX& p) const;
   double potentialEnergy(const VecX& q, const VecX& p) const;
+  /// -grad V [N]: the forces at rest of the elements with a potential (all but the loads
+  /// that do external work, externalWork()).
+  VecX conservativeForce(const VecX& q, const VecX& p) const;
+  /// Power [W] of the forces the potential does not hold, v . (Q(q, v) - conservativeForce):
+  /// dampers and loads that do external work, at time(). With the drivers' lambda^T Phi_t it
+  /// is dE/dt, E = T + V: the energy audit integrates it.
+  double nonConservativePower(const VecX& q, const VecX& v, const VecX& p) const {
+    return v.dot(force(q, v, p) - conservativeForce(q, p));
+  }
 
   // --- sparse blocks, added as s * block at (r0, c0) ------------------------------------
   void addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0, int64_t c0) const;

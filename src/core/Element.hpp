@@ -73,7 +73,7 @@ class Element {
   /// factor, like gravity. Internal forces (elastic, damping) are not loads.
   virtual bool isLoad() const { return false; }
   /// True for a load that does work the potential does not hold (varying in time, follower):
-  /// the energy audit of a passive model does not apply.
+  /// its potential() is 0 and the energy audit integrates its whole power v . Q as work.
   virtual bool externalWork() const { return false; }
   /// Potential energy (gravity, elastic) [J]; its negative gradient is the conservative part of Q.
   virtual double potential(const LocalState& s) const = 0;

@@ -93,7 +93,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   SparseAccumulator acc, kv;
   SparseLU lu;
 
-  obs.frame(cur);
+  beginRun(obs, cur);
   as.setTime(cur.x.t);
   st.maxConstraintViolation = m ? as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
   const double t0 = cur.x.t;

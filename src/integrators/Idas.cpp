@@ -329,7 +329,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     }
     return out;
   };
-  obs.frame(start);
+  beginRun(obs, start);
   as.setTime(t);
   st.maxConstraintViolation = m ? as.phi(start.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
   const long nframes = outputCount(set.tEnd - t, set.frameInterval);
@@ -362,6 +362,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
             std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
         endStep(obs, out, st, false);  // writes the state reached and throws Interrupted
       }
+      obs.stepped(unpack(t, y.get(), yp.get(), n, m));
       obs.progress(t);
     }
     StateWithSens out = current();

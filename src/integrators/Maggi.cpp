@@ -312,7 +312,7 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
   double rcond = f.eval(y, t0, 0, cur, k1);
   double condAtPartition = 1.0 / rcond;
   st.maxConstraintViolation = m ? as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
-  obs.frame(cur);
+  beginRun(obs, cur);
 
   StateWithSens stage;
   for (long step = 1; step <= nsteps; ++step) {

@@ -18,9 +18,12 @@ struct IntegratorSettings {
   int maxNewtonIterations = 25;
   double frameInterval = 0.01; ///< time between output frames [s]
   bool sensitivityErrorControl = true;  ///< IDAS: sensitivities in the error test
-  /// Energy audit (app/EnergyAudit.hpp): a rise of the total mechanical energy above this
-  /// fraction of the run's energy scale marks the run suspect; 0 switches the audit off.
+  /// Energy audit (app/EnergyAudit.hpp): a gain of the energy balance E - E0 - W above this
+  /// fraction of the run's energy scale marks the run suspect; 0 switches that side off ...
   double energyTolerance = 0.05;
+  /// ... and a loss the dampers, loads and drivers do not account for (numerical
+  /// dissipation) above this fraction; 0 switches that side off.
+  double energyLossTolerance = 0.1;
   /// dd: analytic partial derivatives (direct differentiation); dq: IDAS' internal
   /// difference quotients of the residual (IDAS only). External finite differences (nd)
   /// run whole perturbed simulations and live in the app layer.

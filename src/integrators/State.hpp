@@ -41,9 +41,27 @@ class Observer {
   virtual void frame(const StateWithSens& s) = 0;
   /// Called once per step with the current time (progress reporting); cheap.
   virtual void progress(double t) { (void)t; }
+  /// Called with the initial state and then once per accepted step (every step, not only at
+  /// frames; IDAS: every internal step) with the state there, sensitivities left out: the
+  /// energy audit integrates the work of dampers, loads and drivers over the steps.
+  virtual void stepped(const State& x) { (void)x; }
   /// Called once per step with the counters so far, so that a failed or interrupted run
   /// still reports how far it got.
   virtual void reached(const IntegratorStats& st) { (void)st; }
+};
+
+/// Passes everything on to the next observer: the run's chain (health -> energy audit ->
+/// writer); a link overrides what it inspects and still passes it on.
+class ForwardingObserver : public Observer {
+ public:
+  explicit ForwardingObserver(Observer& next) : next_(next) {}
+  void frame(const StateWithSens& s) override { next_.frame(s); }
+  void progress(double t) override { next_.progress(t); }
+  void stepped(const State& x) override { next_.stepped(x); }
+  void reached(const IntegratorStats& st) override { next_.reached(st); }
+
+ protected:
+  Observer& next_;
 };
 
 }  // namespace flexsens

@@ -89,8 +89,10 @@ ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem
     for (const auto& n : names)
       for (const auto& p : m.parameters) columns_.push_back("d" + n + "/d" + p.name);
   }
-  if (energy_)
+  if (energy_) {
     for (const char* c : {"kinetic_J", "potential_J", "energy_J"}) columns_.push_back(c);
+    for (const auto& p : scene_.model->parameters) columns_.push_back("denergy_J/d" + p.name);
+  }
   for (size_t i = 0; i < columns_.size(); ++i) csv_ << (i ? "," : "") << columns_[i];
   csv_ << "\n";
   csv_ << std::setprecision(15);
@@ -102,9 +104,9 @@ void ResultWriter::frame(const StateWithSens& s) {
     if (!v->allFinite())
       throw NumericalError("non-finite state at t = " + std::to_string(s.x.t) + " s; nothing written for it");
   lastRow_.assign(1, s.x.t);
-  for (const auto& o : scene_.outputs) lastRow_.push_back(o.value(m, s.x.q));
+  for (const auto& o : scene_.outputs) lastRow_.push_back(o.value(m, s.x));
   for (const auto& o : scene_.outputs)
-    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(o.derivative(m, s.x.q, s.dp[k].q));
+    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(o.derivative(m, s.x, s.dp[k]));
   if (!drivers_.empty()) {
     // reaction = -lambda dPhi/ds; its derivative -(lambda_p dPhi/ds + lambda (dPhi/ds)_x x_p)
     std::vector<double> sens;
@@ -124,6 +126,7 @@ void ResultWriter::frame(const StateWithSens& s) {
   if (energy_) {
     const Energy e = energy_->at(s.x.q, s.x.v);
     lastRow_.insert(lastRow_.end(), {e.kinetic, e.potential, e.total()});
+    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(energy_->sensitivity(s.x, s.dp[k], static_cast<int>(k)));
   }
   errno = 0;
   for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];

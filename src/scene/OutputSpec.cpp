@@ -19,19 +19,33 @@ VecX angleCoordinates(const Model& m, const std::vector<int>& nodes, const VecX&
 }
 }  // namespace
 
-double OutputSpec::value(const Model& m, const VecX& q) const {
-  if (!angle.empty()) return jointAngleT<double>(angleCoordinates(m, angle, q, false), nullptr);
-  return m.coordinate(q, node, component);  // a position, or a slope component (ANCF)
+double OutputSpec::value(const Model& m, const State& x) const {
+  if (!angle.empty()) {
+    if (!rate) return jointAngleT<double>(angleCoordinates(m, angle, x.q, false), nullptr);
+    VecX g;  // theta' = grad theta . x'
+    jointAngleT<double>(angleCoordinates(m, angle, x.q, false), &g);
+    return g.dot(angleCoordinates(m, angle, x.v, true));
+  }
+  if (rate) {
+    const int d = m.dof(node, component);
+    return d < 0 ? 0.0 : x.v[d];  // ground nodes and clamped slopes do not move
+  }
+  return m.coordinate(x.q, node, component);  // a position, or a slope component (ANCF)
 }
 
-double OutputSpec::derivative(const Model& m, const VecX& q, const VecX& dq) const {
+double OutputSpec::derivative(const Model& m, const State& x, const State& dx) const {
   if (!angle.empty()) {
+    const VecX xq = angleCoordinates(m, angle, x.q, false), dq = angleCoordinates(m, angle, dx.q, true);
     VecX g;
-    jointAngleT<double>(angleCoordinates(m, angle, q, false), &g);
-    return g.dot(angleCoordinates(m, angle, dq, true));
+    jointAngleT<double>(xq, &g);
+    if (!rate) return g.dot(dq);
+    // d/dp (grad theta . v) = v^T Hess(theta) q_p + grad theta . v_p
+    const VecX v = angleCoordinates(m, angle, x.v, true);
+    return v.dot(jointAngleHessian(xq) * dq) + g.dot(angleCoordinates(m, angle, dx.v, true));
   }
   const int d = m.dof(node, component);
-  return d < 0 ? 0.0 : dq[d];
+  if (d < 0) return 0.0;
+  return rate ? dx.v[d] : dx.q[d];
 }
 
 }  // namespace flexsens

@@ -7,20 +7,24 @@
 
 #include "core/Model.hpp"
 #include "integrators/Settings.hpp"
+#include "integrators/State.hpp"
 #include "pim/Pim.hpp"
 
 namespace flexsens {
 
-/// A named scalar output: one coordinate component of one node, or (angle) the signed angle
-/// of elements/JointAngle.hpp on six nodes [rad].
+/// A named scalar output: one coordinate component of one node [m] (a slope component [-]), or
+/// (angle) the signed angle of elements/JointAngle.hpp on six nodes [rad]; with `rate`
+/// (`quantity: velocity`) its time derivative [m/s, 1/s, rad/s].
 struct OutputSpec {
   std::string name;
   int node = -1;
   int component = 0;
   std::vector<int> angle;  ///< axis from/to, from-vector from/to, to-vector from/to (empty: coordinate)
-  /// Value at positions q, and its derivative along dq (the sensitivity column: grad . q_p).
-  double value(const Model& m, const VecX& q) const;
-  double derivative(const Model& m, const VecX& q, const VecX& dq) const;
+  bool rate = false;
+  /// Value at state x (positions q, velocities v), and its derivative along dx (a
+  /// sensitivity d x/dp: the column d<name>/dp of series.csv).
+  double value(const Model& m, const State& x) const;
+  double derivative(const Model& m, const State& x, const State& dx) const;
 };
 
 /// How sensitivities are computed (the speed-versus-accuracy choice).

@@ -20,7 +20,7 @@ void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSe
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
                                  "max_newton_iterations", "frame_interval", "sensitivity_error_control",
-                                 "rho_inf", "energy_tolerance"});
+                                 "rho_inf", "energy_tolerance", "energy_loss_tolerance"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
     r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
@@ -43,6 +43,8 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
     if (!(s.rhoInf >= 0.0 && s.rhoInf <= 1.0)) r.fail(in["rho_inf"], "integrator.rho_inf", "expected a number in [0, 1]");
   }
   if (in["energy_tolerance"]) s.energyTolerance = r.nonNegative(in["energy_tolerance"], "integrator.energy_tolerance");
+  if (in["energy_loss_tolerance"])
+    s.energyLossTolerance = r.nonNegative(in["energy_loss_tolerance"], "integrator.energy_loss_tolerance");
   if (in["sensitivity_error_control"])
     s.sensitivityErrorControl = r.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
   if (const auto pr = checkTimes(s))  // t_end, dt, frame_interval against each other
@@ -56,9 +58,15 @@ void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc) {
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node o = list[i];
     const std::string path = at("outputs", i);
-    r.allowKeys(o, path, {"name", "node", "component", "angle"});
+    r.allowKeys(o, path, {"name", "node", "component", "angle", "quantity"});
     OutputSpec spec;
     spec.name = r.text(r.require(o, "name", path), path + ".name");
+    if (o["quantity"]) {  // position (default) or velocity: the value or its time derivative
+      const std::string qn = r.text(o["quantity"], path + ".quantity");
+      if (qn != "position" && qn != "velocity")
+        r.fail(o["quantity"], path + ".quantity", "expected position or velocity, got '" + qn + "'");
+      spec.rate = qn == "velocity";
+    }
     for (const auto& other : sc.outputs)
       if (other.name == spec.name) r.fail(o["name"], path + ".name", "duplicate output name '" + spec.name + "'");
     if (o["angle"]) {  // signed angle [rad] from-vector -> to-vector about the axis
