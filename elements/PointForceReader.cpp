@@ -1,6 +1,7 @@
 // Scene reader of point_force (elements/PointForce.hpp).
 #include "elements/PlanarFollowerForce.hpp"
 #include "elements/PointForce.hpp"
+#include "elements/SpatialFollowerForce.hpp"
 #include "scene/KindTable.hpp"
 #include "scene/TimeFunctionReader.hpp"
 
@@ -9,6 +10,8 @@ namespace flexsens {
 /// point_force {node, force: [dim numbers], function?}: a load F f(t) [N] on a node (f = 1
 /// without `function`: a dead load), each component bindable as a parameter by its axis name
 /// (e.g. `property: y`), the function's constants by theirs (e.g. `property: amplitude`).
+/// `follower: true` with `body: [A, B]` (planar) or `body: [A, B, C]` (spatial): F is given at
+/// t = 0 and turns with the body through those nodes.
 void readPointForce(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   const Model& m = ctx.m;
@@ -23,17 +26,34 @@ void readPointForce(SceneContext& ctx, const YAML::Node& el, const std::string& 
   std::unique_ptr<TimeFunction> fn;
   if (el["function"]) fn = readTimeFunction(ctx, el["function"], path + ".function", name);
   if (follower) {
-    // follower: true, body: [A, B]: the force turns with the planar body through A and B.
-    if (m.dim != 2)
-      r.fail(el["follower"], path + ".follower", "follower forces are planar (dimension 2) for now; in 3D give a dead load");
+    // follower: true, body: [A, B] (planar) or [A, B, C] (spatial): the force turns with the
+    // body through those nodes.
     if (!el["body"]) r.require(el, "body", path);
     const YAML::Node b = el["body"];
     r.requireList(b, path + ".body");
-    if (b.size() != 2) r.fail(b, path + ".body", "expected two node names [A, B]: the body's direction A->B");
-    const int a = ctx.node(b[0], at(path + ".body", 0)), bb = ctx.node(b[1], at(path + ".body", 1));
-    if (!(ctx.distance(a, bb) > 1e-9)) r.fail(b, path + ".body", "the two nodes coincide at t = 0: they must span the body");
-    auto ff = std::make_unique<PlanarFollowerForce>(name, id, a, bb, VecX(m.nodes[bb].position - m.nodes[a].position),
-                                                    comps, std::move(fn));
+    const size_t n = m.dim == 2 ? 2 : 3;
+    if (b.size() != n)
+      r.fail(b, path + ".body",
+             m.dim == 2 ? "expected two node names [A, B]: the body's direction A->B"
+                        : "expected three node names [A, B, C] of the body, not collinear: its triad "
+                          "(A->B, A->C, their cross product) turns the force");
+    std::vector<int> ids;
+    for (size_t k = 0; k < n; ++k) ids.push_back(ctx.node(b[k], at(path + ".body", k)));
+    std::unique_ptr<Element> ff;
+    if (m.dim == 2) {
+      if (!(ctx.distance(ids[0], ids[1]) > 1e-9))
+        r.fail(b, path + ".body", "the two nodes coincide at t = 0: they must span the body");
+      ff = std::make_unique<PlanarFollowerForce>(name, id, ids[0], ids[1],
+                                                 VecX(m.nodes[ids[1]].position - m.nodes[ids[0]].position), comps,
+                                                 std::move(fn));
+    } else {
+      Eigen::Matrix3d X0;
+      for (int k = 0; k < 3; ++k) X0.col(k) = m.nodes[ids[k]].position;
+      const Eigen::Vector3d d1 = X0.col(1) - X0.col(0), d2 = X0.col(2) - X0.col(0);
+      if (!(d1.cross(d2).norm() > 1e-6 * d1.norm() * d2.norm()))
+        r.fail(b, path + ".body", "the three nodes are collinear (or coincide) at t = 0: they must span a plane of the body");
+      ff = std::make_unique<SpatialFollowerForce>(name, id, ids[0], ids[1], ids[2], X0, comps, std::move(fn));
+    }
     auto props = ff->properties();
     for (int c = 0; c < m.dim; ++c) ctx.bind(name + "." + std::string(1, m.axisName(c)), props[c].second);
     ctx.m.elements.push_back(std::move(ff));
