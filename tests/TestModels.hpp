@@ -12,6 +12,21 @@ namespace flexsens::test {
 
 inline std::string sourceDir() { return FLEXSENS_SOURCE_DIR; }
 
+/// A bar O-T (2 kg, 1 m, planar, gravity -y) turned about the ground node O by a motor,
+/// theta(t) = 0.5 sin(3t) from the ground direction O-X: closed forms for a driver's reaction,
+/// its work and velocity outputs. Tests append `parameters`, `integrator`, `outputs`.
+inline const char* kMotorBarScene = R"(dimension: 2
+gravity: [0, -9.81]
+nodes:
+  - {name: O, position: [0, 0], ground: true}
+  - {name: X, position: [1, 0], ground: true}
+  - {name: T, position: [1, 0]}
+elements:
+  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 2.0}
+constraints:
+  - {name: motor, type: motor, nodes: [O, X, O, T], function: {type: harmonic, amplitude: 0.5, omega: 3}}
+)";
+
 /// Central finite-difference Jacobian of f at x (columns = d f / d x_j).
 inline MatX fdJacobian(const std::function<VecX(const VecX&)>& f, const VecX& x, double h = 1e-6) {
   const VecX f0 = f(x);

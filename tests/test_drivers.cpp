@@ -297,18 +297,7 @@ namespace {
 /// A uniform bar (m = 2 kg, L = 1 m) pinned at the ground node O, its angle from the x axis
 /// driven by a motor: theta(t) = A sin(omega t), A = 0.5 rad (parameter), omega = 3 rad/s.
 /// The motor's torque on the bar is I_O theta'' + m g (L/2) cos(theta), I_O = m L^2/3.
-const char* kMotorBar = R"(
-dimension: 2
-gravity: [0, -9.81]
-nodes:
-  - {name: O, position: [0, 0], ground: true}
-  - {name: X, position: [1, 0], ground: true}
-  - {name: T, position: [1, 0]}
-elements:
-  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 2.0}
-constraints:
-  - {name: motor, type: motor, nodes: [O, X, O, T], function: {type: harmonic, amplitude: 0.5, omega: 3}}
-parameters:
+const std::string kMotorBar = std::string(test::kMotorBarScene) + R"(parameters:
   - {name: A, of: motor, property: amplitude}
 integrator: {type: idas, t_end: 1}
 )";
@@ -356,7 +345,7 @@ TEST(Driver, MotorDrivenBarFollowsTheAngleWithEachIntegrator) {
 }
 
 TEST(Driver, MotorReactionAndItsSensitivityInSeriesCsv) {
-  const Scene sc = readSceneText(std::string(kMotorBar) + "output: {vtk: false, plots: false}\n", "motor.yaml");
+  const Scene sc = readSceneText(kMotorBar + "output: {vtk: false, plots: false}\n", "motor.yaml");
   const std::string dir = ::testing::TempDir() + "/flexsens_motor_run";
   std::filesystem::remove_all(dir);
   const RunResult res = runScene(sc, dir);

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "TestModels.hpp"
 #include "app/EnergyAudit.hpp"
 #include "app/Run.hpp"
 #include "scene/Scene.hpp"
@@ -261,19 +262,9 @@ TEST(EnergyAudit, WorkOfDamperAndTimeVaryingLoadBalancesTheEnergy) {
 // 1 s is the closed-form energy change 1/2 (m L^2/3) theta'^2 + m g (L/2) sin(theta), which the
 // audit must find by integrating lambda^T Phi_t, with every integrator.
 TEST(EnergyAudit, DriverWorkEqualsTheClosedFormEnergyChange) {
-  const char* kMotorBar = R"(dimension: 2
-gravity: [0, -9.81]
-nodes:
-  - {name: O, position: [0, 0], ground: true}
-  - {name: X, position: [1, 0], ground: true}
-  - {name: T, position: [1, 0]}
-elements:
-  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 2.0}
-constraints:
-  - {name: motor, type: motor, nodes: [O, X, O, T], function: {type: harmonic, amplitude: 0.5, omega: 3}}
-integrator: {type: idas, t_end: 1, frame_interval: 0.05}
-output: {vtk: false, plots: false}
-)";
+  const std::string kMotorBar = std::string(test::kMotorBarScene) +
+                               "integrator: {type: idas, t_end: 1, frame_interval: 0.05}\n"
+                               "output: {vtk: false, plots: false}\n";
   auto energy = [](double t) {
     const double th = 0.5 * std::sin(3 * t), thd = 1.5 * std::cos(3 * t);
     return 0.5 * (2.0 / 3.0) * thd * thd + 2.0 * 9.81 * 0.5 * std::sin(th);

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "TestModels.hpp"
 #include "app/Run.hpp"
 #include "scene/Scene.hpp"
 
@@ -18,17 +19,7 @@ using namespace flexsens;
 namespace {
 
 // theta = A sin(3t), A = 0.5: tip T at (cos theta, sin theta).
-const char* kMotorBar = R"(dimension: 2
-gravity: [0, -9.81]
-nodes:
-  - {name: O, position: [0, 0], ground: true}
-  - {name: X, position: [1, 0], ground: true}
-  - {name: T, position: [1, 0]}
-elements:
-  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 2.0}
-constraints:
-  - {name: motor, type: motor, nodes: [O, X, O, T], function: {type: harmonic, amplitude: 0.5, omega: 3}}
-parameters:
+const std::string kMotorBar = std::string(test::kMotorBarScene) + R"(parameters:
   - {name: A, of: motor, property: amplitude}
 integrator: {type: idas, t_end: 1, frame_interval: 0.1, rtol: 1e-10, atol: 1e-12}
 outputs:

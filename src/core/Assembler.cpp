@@ -116,11 +116,12 @@ bool Assembler::constraintParameterDerivative(const Constraint& co, const LocalS
 }
 
 // ----------------------------------------------------------------------------- vectors
-VecX Assembler::force(const VecX& q, const VecX& v, const VecX& p) const {
+VecX Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly) const {
   VecX Q = VecX::Zero(n());
   VecX Ql;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
+    if (potentialOnly && el.externalWork()) continue;  // no potential: all its force is work
     el.force(localState(el, q, v, p), Ql);
     if (el.isLoad()) Ql *= loadFactor_;
     const auto& map = elemDofs_[e];
@@ -328,21 +329,6 @@ double Assembler::potentialEnergy(const VecX& q, const VecX& p) const {
   double U = 0.0;
   for (const auto& el : model_.elements) U += el->potential(localState(*el, q, VecX(), p));
   return U;
-}
-
-VecX Assembler::conservativeForce(const VecX& q, const VecX& p) const {
-  VecX Q = VecX::Zero(n()), Ql;
-  const VecX rest = VecX::Zero(n());
-  for (size_t e = 0; e < model_.elements.size(); ++e) {
-    const auto& el = *model_.elements[e];
-    if (el.externalWork()) continue;  // no potential: all its force is work
-    el.force(localState(el, q, rest, p), Ql);
-    if (el.isLoad()) Ql *= loadFactor_;
-    const auto& map = elemDofs_[e];
-    for (size_t i = 0; i < map.size(); ++i)
-      if (map[i] >= 0) Q[map[i]] += Ql[i];
-  }
-  return Q;
 }
 
 // ----------------------------------------------------------------------------- blocks

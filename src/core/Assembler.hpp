@@ -51,7 +51,9 @@ class Assembler {
   std::string rowLabel(int r) const;
 
   // --- vectors -----------------------------------------------------------------------
-  VecX force(const VecX& q, const VecX& v, const VecX& p) const;          ///< Q [N]
+  VecX force(const VecX& q, const VecX& v, const VecX& p) const {          ///< Q [N]
+    return elementForces(q, v, p, false);
+  }
   VecX phi(const VecX& q, const VecX& p) const;                           ///< Phi
   VecX phiQTimes(const VecX& q, const VecX& p, const VecX& x) const;      ///< Phi_q x
   VecX phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const;  ///< Phi_q^T l
@@ -77,7 +79,9 @@ class Assembler {
   double potentialEnergy(const VecX& q, const VecX& p) const;
   /// -grad V [N]: the forces at rest of the elements with a potential (all but the loads
   /// that do external work, externalWork()).
-  VecX conservativeForce(const VecX& q, const VecX& p) const;
+  VecX conservativeForce(const VecX& q, const VecX& p) const {
+    return elementForces(q, VecX::Zero(q.size()), p, true);
+  }
   /// Power [W] of the forces the potential does not hold, v . (Q(q, v) - conservativeForce):
   /// dampers and loads that do external work, at time(). With the drivers' lambda^T Phi_t it
   /// is dE/dt, E = T + V: the energy audit integrates it.
@@ -128,6 +132,8 @@ class Assembler {
 
  private:
   std::vector<int> dofMap(const std::vector<int>& nodes, bool slopes) const;
+  /// Sum of the elements' forces at (q, v); with potentialOnly, of those with a potential.
+  VecX elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly) const;
   // The local derivative kernels, analytic or AD by derivatives_ (the loops are shared).
   void elementForceJacobian(const Element& el, const LocalState& s, MatX& dQdq, MatX& dQdv) const;
   bool elementParameterDerivative(const Element& el, const LocalState& s, int k, VecX& dQ,
