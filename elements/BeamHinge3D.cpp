@@ -1,4 +1,5 @@
 #include "elements/BeamHinge3D.hpp"
+#include "elements/BodyTriad.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -25,15 +26,8 @@ namespace {
 /// Relative size of d = |e1||e2|(1 + cos phi) below which phi counts as pi (folded).
 constexpr double kFoldTol = 1e-12;
 
-template <class T>
-using V3 = Eigen::Matrix<T, 3, 1>;
-
-template <class T>
-V3<T> cross(const V3<T>& a, const V3<T>& b) {
-  V3<T> r;
-  r << T(a[1] * b[2] - a[2] * b[1]), T(a[2] * b[0] - a[0] * b[2]), T(a[0] * b[1] - a[1] * b[0]);
-  return r;
-}
+using triad::V3;
+using triad::cross;  // written out for AD scalars (elements/BodyTriad.hpp)
 
 /// f = |kb|^2 and its gradient in (e1, e2): gf1 = df/de1, gf2 = df/de2 [1/m].
 /// Returns false (outputs unset beyond what was computed) if an edge has zero length or the
