@@ -40,7 +40,7 @@ TEST(Outputs, RunWritesCsvVtkPvdAndSummary) {
   std::ifstream csv(dir / "series.csv");
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header, "t,z2,x1,z1,dz2/dL_A1,dx1/dL_A1,dz1/dL_A1,kinetic_J,potential_J,energy_J");
+  EXPECT_EQ(header, "t,z2,x1,z1,dz2/dL_A1,dx1/dL_A1,dz1/dL_A1,kinetic_J,potential_J,energy_J,denergy_J/dL_A1");
   int rows = 0;
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, 11);
