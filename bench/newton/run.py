@@ -24,7 +24,6 @@ def without_parameters(scene):
     doc = yaml.safe_load(open(scene))
     doc.pop("parameters", None)
     doc.pop("cases", None)
-    path = os.path.join(tmp, os.path.basename(scene))
     # Mesh files and tables are resolved next to the scene: keep it beside the original.
     path = os.path.join(os.path.dirname(scene), ".bench_noparam_" + os.path.basename(scene))
     yaml.safe_dump(doc, open(path, "w"), sort_keys=False)
