@@ -239,6 +239,19 @@ TEST(CliErrors, InvalidIntegratorOptionExitsOneNamingTheOption) {
   EXPECT_TRUE(directoryEntries(work).empty());
 }
 
+TEST(CliErrors, InvalidNewtonOptionExitsOneNamingTheOption) {
+  Scratch s("opt_newton");
+  const fs::path work = s.base / "work", out = s.base / "out";
+  fs::create_directories(work);
+  const Invocation r = flexsens("run " + quote(kValidScene) + " --newton quasi --out " + quote(out.string()),
+                                work, s.base / "err");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("--newton"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("quasi"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(directoryEntries(work).empty());
+}
+
 TEST(CliErrors, NegativeDtOptionExitsOneNamingTheOption) {
   Scratch s("opt_dt");
   const fs::path work = s.base / "work", out = s.base / "out";

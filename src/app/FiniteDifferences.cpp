@@ -28,6 +28,8 @@ void add(IntegratorStats& a, const IntegratorStats& b) {
   a.steps += b.steps;
   a.newtonIterations += b.newtonIterations;
   a.factorizations += b.factorizations;
+  a.sensitivityIterations += b.sensitivityIterations;
+  a.sensitivityFactorizations += b.sensitivityFactorizations;
   a.residualEvaluations += b.residualEvaluations;
   a.jacobianEvaluations += b.jacobianEvaluations;
   a.errorTestFailures += b.errorTestFailures;

@@ -42,6 +42,10 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     if (!(*opt.rhoInf >= 0.0 && *opt.rhoInf <= 1.0)) throw InputError("option --rho-inf: expected a number in [0, 1]");
     s.rhoInf = *opt.rhoInf;
   }
+  if (opt.newton) {
+    if (!isNewtonMode(*opt.newton)) throw InputError("option --newton: expected full or modified, got '" + *opt.newton + "'");
+    s.newton = *opt.newton;
+  }
   if (opt.rtol) {
     if (!(*opt.rtol > 0)) throw InputError("option --rtol: expected a positive relative tolerance");
     s.rtol = *opt.rtol;
@@ -183,7 +187,8 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
   js << "},\n";
   js << "  \"integrator\": {\"type\": " << jsonString(sc.integrator.type)
      << ", \"t_end\": " << jsonNumber(sc.integrator.tEnd) << ", \"dt\": " << jsonNumber(sc.integrator.dt)
-     << ", \"rtol\": " << jsonNumber(sc.integrator.rtol) << ", \"atol\": " << jsonNumber(sc.integrator.atol) << "},\n";
+     << ", \"rtol\": " << jsonNumber(sc.integrator.rtol) << ", \"atol\": " << jsonNumber(sc.integrator.atol)
+     << ", \"newton\": " << jsonString(sc.integrator.newton) << "},\n";
   js << "  \"n\": " << m.n << ", \"m\": " << m.m << ", \"d\": " << m.n - m.m << ",\n";
   js << "  \"coordinates\": [";
   for (int i = 0; i < m.n; ++i) js << (i ? ", " : "") << jsonString(m.coordinateLabel(i));
@@ -193,7 +198,9 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
        << jsonString(m.parameters[k].boundTo) << ", \"nominal\": " << jsonNumber(m.parameters[k].nominal) << "}";
   js << "],\n";
   js << "  \"statistics\": {\"steps\": " << st.steps << ", \"newton_iterations\": " << st.newtonIterations
-     << ", \"factorizations\": " << st.factorizations << ", \"residual_evaluations\": " << st.residualEvaluations
+     << ", \"factorizations\": " << st.factorizations << ", \"sensitivity_iterations\": " << st.sensitivityIterations
+     << ", \"sensitivity_factorizations\": " << st.sensitivityFactorizations
+     << ", \"residual_evaluations\": " << st.residualEvaluations
      << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
      << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";

@@ -16,6 +16,7 @@ struct RunOptions {
   std::optional<std::string> integrator;
   std::optional<double> tEnd, dt;
   std::optional<double> rhoInf, rtol;  ///< generalized_alpha rho_inf; IDAS relative tolerance
+  std::optional<std::string> newton;  ///< fixed-step Newton: full | modified
   std::optional<std::string> method;  ///< dd | dq | nd
   std::optional<double> ndStep;
   std::optional<std::string> ndScheme;

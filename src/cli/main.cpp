@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   double rhoInf = 0, rtol = 0;
   run->add_option("--rho-inf", rhoInf, "generalized_alpha: spectral radius at infinity, 0..1 (default 0.9; 1 = no dissipation)");
   run->add_option("--rtol", rtol, "IDAS relative tolerance");
+  std::string newtonMode;
+  run->add_option("--newton", newtonMode, "fixed-step Newton: full (factorizes every iteration, default) | modified (keeps the factorization while the iteration contracts fast)");
   std::string method, ndScheme;
   double ndStep = 0;
   run->add_option("--method", method, "sensitivities: dd (analytic, default) | ad (forward-mode automatic differentiation) | dq (IDAS difference quotients) | nd (finite differences of perturbed runs)");
@@ -177,6 +179,7 @@ int main(int argc, char** argv) {
     if (run->count("--dt")) opt.dt = dt;
     if (run->count("--rho-inf")) opt.rhoInf = rhoInf;
     if (run->count("--rtol")) opt.rtol = rtol;
+    if (!newtonMode.empty()) opt.newton = newtonMode;
     if (!outDir.empty()) opt.outDir = outDir;
     if (!method.empty()) opt.method = method;
     if (run->count("--nd-step")) opt.ndStep = ndStep;

@@ -26,6 +26,8 @@ class SparseLU {
   /// Reciprocal condition estimate of the last factorization (KLU's rcond, cheap).
   double rcond() const;
   long factorizations() const { return count_; }
+  /// A factorization is held (false before the first and after one that failed).
+  bool factorized() const { return numeric_ != nullptr; }
 
  private:
   void release();

@@ -16,6 +16,11 @@ struct IntegratorSettings {
   double atol = 1e-10;         ///< IDAS absolute tolerance
   double newtonTol = 1e-10;    ///< fixed-step Newton: tolerance on the scaled update
   int maxNewtonIterations = 25;
+  /// Fixed-step Newton: "full" factorizes the Newton matrix at every iteration; "modified"
+  /// keeps the factorization across iterations and steps and refreshes it when the iteration
+  /// contracts slowly. Full is the default: modified leaves an error of up to the tolerance
+  /// where full Newton's quadratic convergence leaves round-off (see README).
+  std::string newton = "full";
   double frameInterval = 0.01; ///< time between output frames [s]
   bool sensitivityErrorControl = true;  ///< IDAS: sensitivities in the error test
   /// Energy audit (app/EnergyAudit.hpp): a gain of the energy balance E - E0 - W above this
@@ -29,6 +34,8 @@ struct IntegratorSettings {
   /// run whole perturbed simulations and live in the app layer.
   std::string sensitivityMethod = "dd";
 };
+
+inline bool isNewtonMode(const std::string& m) { return m == "full" || m == "modified"; }
 
 /// The integrator names scenes and the command line accept.
 inline constexpr const char* kIntegratorTypes = "idas, trapezoidal, bdf1, generalized_alpha or maggi_rk4";

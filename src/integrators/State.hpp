@@ -26,11 +26,15 @@ struct StateWithSens {
 struct IntegratorStats {
   long steps = 0;
   long newtonIterations = 0;
-  long factorizations = 0;
+  long factorizations = 0;      ///< every numeric LU factorization of the step matrices
+  /// Fixed step, modified Newton: applications of the kept LU in the sensitivity solves
+  /// (preconditioned GMRES), and the factorizations of the exact matrix they fell back to.
+  long sensitivityIterations = 0;
+  long sensitivityFactorizations = 0;
   long residualEvaluations = 0;
   long jacobianEvaluations = 0;
   long errorTestFailures = 0;
-  long convergenceFailures = 0;
+  long convergenceFailures = 0;  ///< IDAS: nonlinear failures; fixed step: modified-Newton steps redone with full Newton
   double maxConstraintViolation = 0.0;  ///< max over frames of |Phi|_inf
 };
 

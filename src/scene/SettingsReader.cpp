@@ -20,7 +20,7 @@ void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSe
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
                                  "max_newton_iterations", "frame_interval", "sensitivity_error_control",
-                                 "rho_inf", "energy_tolerance", "energy_loss_tolerance"});
+                                 "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
     r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
@@ -41,6 +41,11 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
   if (in["rho_inf"]) {
     s.rhoInf = r.number(in["rho_inf"], "integrator.rho_inf");
     if (!(s.rhoInf >= 0.0 && s.rhoInf <= 1.0)) r.fail(in["rho_inf"], "integrator.rho_inf", "expected a number in [0, 1]");
+  }
+  if (in["newton"]) {
+    s.newton = r.text(in["newton"], "integrator.newton");
+    if (!isNewtonMode(s.newton))
+      r.fail(in["newton"], "integrator.newton", "expected full or modified, got '" + s.newton + "'");
   }
   if (in["energy_tolerance"]) s.energyTolerance = r.nonNegative(in["energy_tolerance"], "integrator.energy_tolerance");
   if (in["energy_loss_tolerance"])
