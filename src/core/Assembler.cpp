@@ -216,35 +216,8 @@ VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const 
 }
 
 // ------------------------------------------------------------------ time terms (drivers)
-VecX Assembler::phiT(const VecX& q, const VecX& p) const {
-  VecX r = VecX::Zero(m());
-  if (!rheonomic_) return r;
-  VecX pt, g;
-  MatX pqt, dg;
-  for (size_t c = 0; c < cons_.size(); ++c) {
-    const auto& co = *cons_[c];
-    if (!co.rheonomic()) continue;
-    co.timeDerivatives(localState(co, q, VecX(), p), pt, pqt, g, dg);
-    r.segment(consRow_[c], co.rows()) = pt;
-  }
-  return r;
-}
-
-VecX Assembler::phiQTTimes(const VecX& q, const VecX& p, const VecX& x) const {
-  VecX r = VecX::Zero(m());
-  if (!rheonomic_) return r;
-  VecX pt, g;
-  MatX pqt, dg;
-  for (size_t c = 0; c < cons_.size(); ++c) {
-    const auto& co = *cons_[c];
-    if (!co.rheonomic()) continue;
-    co.timeDerivatives(localState(co, q, VecX(), p), pt, pqt, g, dg);
-    r.segment(consRow_[c], co.rows()) = pqt * gather(consDofs_[c], x);
-  }
-  return r;
-}
-
-VecX Assembler::accelerationTimeTerms(const VecX& q, const VecX& v, const VecX& p) const {
+template <class Pick>
+VecX Assembler::driverRows(const VecX& q, const VecX& v, const VecX& p, Pick pick) const {
   VecX r = VecX::Zero(m());
   if (!rheonomic_) return r;
   VecX pt, g;
@@ -253,24 +226,30 @@ VecX Assembler::accelerationTimeTerms(const VecX& q, const VecX& v, const VecX& 
     const auto& co = *cons_[c];
     if (!co.rheonomic()) continue;
     co.timeDerivatives(localState(co, q, v, p), pt, pqt, g, dg);
-    r.segment(consRow_[c], co.rows()) = g;
+    r.segment(consRow_[c], co.rows()) = pick(c, pt, pqt, g, dg);
   }
   return r;
+}
+
+VecX Assembler::phiT(const VecX& q, const VecX& p) const {
+  return driverRows(q, VecX(), p, [](size_t, const VecX& pt, const MatX&, const VecX&, const MatX&) { return pt; });
+}
+
+VecX Assembler::phiQTTimes(const VecX& q, const VecX& p, const VecX& x) const {
+  return driverRows(q, VecX(), p, [&](size_t c, const VecX&, const MatX& pqt, const VecX&, const MatX&) {
+    return VecX(pqt * gather(consDofs_[c], x));
+  });
+}
+
+VecX Assembler::accelerationTimeTerms(const VecX& q, const VecX& v, const VecX& p) const {
+  return driverRows(q, v, p, [](size_t, const VecX&, const MatX&, const VecX& g, const MatX&) { return g; });
 }
 
 VecX Assembler::accelerationTimeTermsQTimes(const VecX& q, const VecX& v, const VecX& p,
                                             const VecX& x) const {
-  VecX r = VecX::Zero(m());
-  if (!rheonomic_) return r;
-  VecX pt, g;
-  MatX pqt, dg;
-  for (size_t c = 0; c < cons_.size(); ++c) {
-    const auto& co = *cons_[c];
-    if (!co.rheonomic()) continue;
-    co.timeDerivatives(localState(co, q, v, p), pt, pqt, g, dg);
-    r.segment(consRow_[c], co.rows()) = dg * gather(consDofs_[c], x);
-  }
-  return r;
+  return driverRows(q, v, p, [&](size_t c, const VecX&, const MatX&, const VecX&, const MatX& dg) {
+    return VecX(dg * gather(consDofs_[c], x));
+  });
 }
 
 VecX Assembler::phiTParamDerivative(const VecX& q, const VecX& p, int k) const {

@@ -132,6 +132,9 @@ class Assembler {
 
  private:
   std::vector<int> dofMap(const std::vector<int>& nodes, bool slopes) const;
+  /// An m-vector with each driver's rows pick(c, Phi_t, Phi_qt, g, g_q) at (q, v), zero elsewhere.
+  template <class Pick>
+  VecX driverRows(const VecX& q, const VecX& v, const VecX& p, Pick pick) const;
   /// Sum of the elements' forces at (q, v); with potentialOnly, of those with a potential.
   VecX elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly) const;
   // The local derivative kernels, analytic or AD by derivatives_ (the loops are shared).
