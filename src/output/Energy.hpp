@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include "core/Assembler.hpp"
 #include "integrators/State.hpp"
@@ -24,19 +25,27 @@ class EnergyMeter {
   Energy at(const VecX& q, const VecX& v) const {
     return {0.5 * v.dot(M_ * v), as_.potentialEnergy(q, p_)};
   }
-  /// dE/dp_k along the sensitivity dx = (q_p, v_p) of state x [J per unit of p_k]: T's part
-  /// exactly, v^T M v_p + 1/2 v^T M_p v; V's part grad V . q_p exactly (conservativeForce) plus
-  /// dV/dp_k at fixed q by a central difference in p_k: V is linear or quadratic in what the
-  /// parameters bind (moduli, masses, densities, gravity, lengths), where the difference is exact
-  /// to round-off (a section side enters to the 4th power: relative error ~1e-8 at step 1e-4).
-  double sensitivity(const State& x, const State& dx, int k) const {
-    const double dT = x.v.dot(M_ * dx.v) + 0.5 * x.v.dot(as_.massParamDerivativeTimes(p_, k, x.v));
-    VecX pp = p_, pm = p_;
-    const double h = 1e-4 * (p_[k] != 0.0 ? std::abs(p_[k]) : 1.0);
-    pp[k] += h;
-    pm[k] -= h;
-    const double dVdp = (as_.potentialEnergy(x.q, pp) - as_.potentialEnergy(x.q, pm)) / (2 * h);
-    return dT - as_.conservativeForce(x.q, p_).dot(dx.q) + dVdp;
+  /// dE/dp_k along each sensitivity dp[k] = (q_p, v_p) of state x [J per unit of p_k]: T's
+  /// part exactly, v^T M v_p + 1/2 v^T M_p v; V's part grad V . q_p exactly (conservativeForce,
+  /// once for all k) plus dV/dp_k at fixed q by a central difference in p_k: V is linear or
+  /// quadratic in what the parameters bind (moduli, masses, densities, gravity, lengths), where
+  /// the difference is exact to round-off (a section side enters to the 4th power: relative
+  /// error ~1e-8 at step 1e-4).
+  std::vector<double> sensitivities(const State& x, const std::vector<State>& dp) const {
+    std::vector<double> dE;
+    if (dp.empty()) return dE;
+    const VecX gradV = -as_.conservativeForce(x.q, p_);
+    for (size_t k = 0; k < dp.size(); ++k) {
+      const int kk = static_cast<int>(k);
+      const double dT = x.v.dot(M_ * dp[k].v) + 0.5 * x.v.dot(as_.massParamDerivativeTimes(p_, kk, x.v));
+      VecX pp = p_, pm = p_;
+      const double h = 1e-4 * (p_[kk] != 0.0 ? std::abs(p_[kk]) : 1.0);
+      pp[kk] += h;
+      pm[kk] -= h;
+      const double dVdp = (as_.potentialEnergy(x.q, pp) - as_.potentialEnergy(x.q, pm)) / (2 * h);
+      dE.push_back(dT + gradV.dot(dp[k].q) + dVdp);
+    }
+    return dE;
   }
   /// dE/dt at x [W]: the non-conservative forces' power and the drivers'. A driver's force
   /// -Phi_q^T lambda has the power -lambda^T Phi_q v = lambda^T Phi_t (Phi_q v + Phi_t = 0).

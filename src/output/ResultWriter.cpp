@@ -126,7 +126,7 @@ void ResultWriter::frame(const StateWithSens& s) {
   if (energy_) {
     const Energy e = energy_->at(s.x.q, s.x.v);
     lastRow_.insert(lastRow_.end(), {e.kinetic, e.potential, e.total()});
-    for (size_t k = 0; k < s.dp.size(); ++k) lastRow_.push_back(energy_->sensitivity(s.x, s.dp[k], static_cast<int>(k)));
+    for (const double d : energy_->sensitivities(s.x, s.dp)) lastRow_.push_back(d);
   }
   errno = 0;
   for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
