@@ -144,7 +144,11 @@ TEST(Extremes, StartNearTheToggleConfiguration) {
   Assembler as(*sc.model);
   const VecX p = sc.model->nominalParameters();
   Recorder rec;
-  auto set = fixedStep("trapezoidal", 1e-3, 5.3);
+  // Getting there: the motion is chaotic by then (|dq/dL_A1| |p| / L passes 1e3 at t = 1.5 s,
+  // 2e10 at 5.3 s), so whether the trapezoidal rule's Newton passes t ~ 4.9 s depends on
+  // round-off (it did with KLU's own AMD ordering, not with the saddle-point ordering, nor at
+  // dt 5e-4 with either). Generalized-alpha, which damps the highest frequencies, gets there.
+  auto set = fixedStep("generalized_alpha", 1e-3, 5.3);
   try {
     integrate(as, p, initialState(as, p, sc.pimCase.get()), set, rec);
   } catch (const NumericalError& e) {

@@ -34,6 +34,8 @@ void add(IntegratorStats& a, const IntegratorStats& b) {
   a.jacobianEvaluations += b.jacobianEvaluations;
   a.errorTestFailures += b.errorTestFailures;
   a.convergenceFailures += b.convergenceFailures;
+  a.luFill = std::max(a.luFill, b.luFill);
+  a.factorizationSeconds += b.factorizationSeconds;
 }
 
 }  // namespace

@@ -104,7 +104,7 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
   }
   StateWithSens s;
   s.x = consistentState(as, p);
-  const auto cod = as.phiQDense(s.x.q, p).completeOrthogonalDecomposition();
+  const LeastNorm cod(as, s.x.q, p);  // least-norm initial sensitivities
   for (size_t k = 0; k < m.parameters.size(); ++k) {
     State d;
     const int kk = static_cast<int>(k);
@@ -202,7 +202,8 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
      << ", \"sensitivity_factorizations\": " << st.sensitivityFactorizations
      << ", \"residual_evaluations\": " << st.residualEvaluations
      << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
-     << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << "},\n";
+     << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << ", \"lu_fill\": " << jsonNumber(st.luFill)
+     << ", \"factorization_seconds\": " << jsonNumber(st.factorizationSeconds) << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
   js << "  \"energy\": " << energy << ",\n";
   js << "  \"health\": " << health << ",\n";

@@ -145,9 +145,7 @@ int main(int argc, char** argv) {
       {
         // The reader left dependent rows out already (core/RedundantRows.hpp); confirm the rest.
         const DependentRows red = dependentRows(m, m.initialPositions(), m.nominalParameters());
-        if (!red.checked)
-          std::cout << "  redundancy of the constraints not checked (n m^2 above " << kMaxRedundancyWork << ")\n";
-        else if (!red.rows.empty())  // cannot happen after leaveOutRedundantRows; say so if it does
+        if (!red.rows.empty())  // cannot happen after leaveOutRedundantRows; say so if it does
           std::cout << "  constraints still dependent after the elimination: rank " << red.rank << " of " << m.m << "\n";
         else if (m.redundantRows.empty())
           std::cout << "  constraints independent at the initial positions (rank Phi_q = " << m.m << ")\n";

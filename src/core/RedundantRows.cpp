@@ -3,9 +3,11 @@
 #include <algorithm>
 
 #include <Eigen/QR>
+#include <Eigen/SparseQR>
 
 #include "constraints/SelectedRows.hpp"
 #include "core/Assembler.hpp"
+#include "core/SparseAccumulator.hpp"
 
 namespace flexsens {
 
@@ -15,14 +17,28 @@ DependentRows dependentRows(const Model& m, const VecX& q0, const VecX& p) {
     d.checked = true;
     return d;
   }
-  if (static_cast<double>(m.n) * m.m * m.m > kMaxRedundancyWork) return d;
   const Assembler as(m);
-  const MatX JT = as.phiQDense(q0, p).transpose();  // n x m: columns are constraint rows
-  Eigen::ColPivHouseholderQR<MatX> qr(JT);
-  qr.setThreshold(kRedundancyThreshold);
-  d.rank = static_cast<int>(qr.rank());
-  const auto& perm = qr.colsPermutation().indices();
-  for (int k = d.rank; k < m.m; ++k) d.rows.push_back(perm[k]);
+  if (static_cast<double>(m.n) * m.m * m.m <= kDenseRedundancyWork) {
+    const MatX JT = as.phiQDense(q0, p).transpose();  // n x m: columns are constraint rows
+    Eigen::ColPivHouseholderQR<MatX> qr(JT);
+    qr.setThreshold(kRedundancyThreshold);
+    d.rank = static_cast<int>(qr.rank());
+    const auto& perm = qr.colsPermutation().indices();
+    for (int k = d.rank; k < m.m; ++k) d.rows.push_back(perm[k]);
+  } else {
+    SparseAccumulator acc;
+    acc.begin(m.n, m.m);
+    as.addPhiQ(acc, q0, p, 1.0, 0, 0, true);  // Phi_q^T
+    const Eigen::SparseMatrix<double> JT = acc.finish().cast<double>();
+    double largest = 0.0;
+    for (int j = 0; j < JT.outerSize(); ++j) largest = std::max(largest, JT.col(j).norm());
+    Eigen::SparseQR<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> qr;
+    qr.setPivotThreshold(kRedundancyThreshold * largest);
+    qr.compute(JT);
+    d.rank = static_cast<int>(qr.rank());
+    const auto& perm = qr.colsPermutation().indices();
+    for (int k = d.rank; k < m.m; ++k) d.rows.push_back(perm[k]);
+  }
   std::sort(d.rows.begin(), d.rows.end());
   for (int r : d.rows) d.labels.push_back(as.rowLabel(r));
   d.checked = true;

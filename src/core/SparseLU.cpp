@@ -1,11 +1,26 @@
 #include "core/SparseLU.hpp"
 
+#include "core/SaddlePointOrdering.hpp"
+
+#include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 
 namespace flexsens {
 
-SparseLU::SparseLU() { klu_l_defaults(&common_); }
+SparseLU::SparseLU() {
+  klu_l_defaults(&common_);
+  // The ordering makes every diagonal pivot nonzero in exact arithmetic (a Schur entry for a
+  // multiplier), but one can be small next to its column: a light node's M/(beta h^2) beside
+  // a stiff element's entries. KLU's default tolerance (1e-3) then pivots off the diagonal and
+  // fills (satellite refine 5: 104 such pivots, 14x the fill); 1e-6 keeps the diagonal there
+  // with a backward error of 2e-16 (bench/linear). Newton and the sensitivity solve's
+  // backward-error test (core/PreconditionedSolve) see any loss of accuracy.
+  common_.tol = 1e-6;
+  common_.btf = 0;  // one block: BTF finds none in these matrices and costs an analysis pass
+}
 SparseLU::~SparseLU() { release(); }
 
 void SparseLU::release() {
@@ -21,14 +36,33 @@ bool samePattern(const SpMat& a, const SpMat& b) {
 }
 }  // namespace
 
+namespace {
+/// Benchmark aid (bench/linear): FLEXSENS_DUMP_MATRIX=PREFIX writes the matrices handed to
+/// factor() number FLEXSENS_DUMP_AT (default 100) and every 100th after it, up to three, as
+/// PREFIX_<k>.mtx (Matrix Market, 1-based), so solvers can be compared on real matrices.
+void dumpIfAsked(const SpMat& A, long count) {
+  static const char* prefix = std::getenv("FLEXSENS_DUMP_MATRIX");
+  if (!prefix) return;
+  static const long first = std::getenv("FLEXSENS_DUMP_AT") ? std::atol(std::getenv("FLEXSENS_DUMP_AT")) : 100;
+  if (count < first || (count - first) % 100 != 0 || count > first + 200) return;
+  std::ofstream f(std::string(prefix) + "_" + std::to_string(count) + ".mtx");
+  f << "%%MatrixMarket matrix coordinate real general\n" << A.rows() << " " << A.cols() << " " << A.nonZeros() << "\n";
+  f.precision(17);
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+    for (SpMat::InnerIterator it(A, j); it; ++it) f << it.row() + 1 << " " << j + 1 << " " << it.value() << "\n";
+}
+}  // namespace
+
 void SparseLU::factor(const SpMat& A, const std::string& what) {
   if (!A.isCompressed()) throw std::logic_error("SparseLU::factor needs a compressed matrix");
+  dumpIfAsked(A, count_);
   auto* Ap = const_cast<int64_t*>(A.outerIndexPtr());
   auto* Ai = const_cast<int64_t*>(A.innerIndexPtr());
   auto* Ax = const_cast<double*>(A.valuePtr());
   if (!symbolic_ || !samePattern(A, pattern_)) {
     release();
-    symbolic_ = klu_l_analyze(A.rows(), Ap, Ai, &common_);
+    std::vector<int64_t> perm = saddlePointOrdering(A);
+    symbolic_ = klu_l_analyze_given(A.rows(), Ap, Ai, perm.data(), perm.data(), &common_);
     if (!symbolic_) throw NumericalError("KLU could not analyse the " + what);
     pattern_ = A;
   }
@@ -42,6 +76,9 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
     common_.rcond = 1.0 / common_.condest;
     return common_.condest < 1e15;
   };
+  std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), pattern_.valuePtr());  // A, for solve()
+  absA_ = pattern_.cwiseAbs();
+  const auto start = std::chrono::steady_clock::now();
   bool ok;
   if (numeric_) {
     ok = klu_l_refactor(Ap, Ai, Ax, symbolic_, numeric_, &common_) == 1 &&
@@ -55,6 +92,11 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
     ok = numeric_ && common_.status == KLU_OK && conditioned(1e-16);
   }
   ++count_;
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (numeric_) {
+    fill_ = double(numeric_->lnz + numeric_->unz - A.rows()) / double(std::max<Eigen::Index>(1, A.nonZeros()));
+    maxFill_ = std::max(maxFill_, fill_);
+  }
   if (!ok || common_.status == KLU_SINGULAR) {
     std::ostringstream os;
     os << "the " << what << " is singular or nearly so (KLU status " << common_.status
@@ -66,7 +108,27 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
 
 void SparseLU::solve(MatX& b) const {
   if (!numeric_) throw std::logic_error("SparseLU::solve before factor");
-  klu_l_solve(symbolic_, numeric_, b.rows(), b.cols(), b.data(), &common_);
+  MatX x = b;
+  klu_l_solve(symbolic_, numeric_, x.rows(), x.cols(), x.data(), &common_);
+  // Iterative refinement, up to twice, while the componentwise backward error
+  // max_i |b - A x|_i / (|A| |x| + |b|)_i is above kRefineAbove (componentwise: the constraint
+  // rows are ~1e6 times smaller than the dynamic rows M/(beta h^2), so a normwise measure
+  // would not see their error). The saddle-point ordering pivots on the diagonal; near a
+  // singular Phi_q (a mechanism at its toggle) a multiplier's Schur pivot is small and the
+  // plain solve loses digits: the rigid five-bar's trapezoidal Newton then diverged 0.46 s
+  // before the toggle, which refinement restores. An accurate solve costs two products.
+  for (int pass = 0; pass < 2; ++pass) {
+    MatX r = b - pattern_ * x;
+    const MatX scale = absA_ * x.cwiseAbs() + b.cwiseAbs();
+    double omega = 0.0;
+    for (Eigen::Index c = 0; c < x.cols(); ++c)
+      for (Eigen::Index i = 0; i < x.rows(); ++i)
+        if (r(i, c) != 0.0) omega = std::max(omega, std::abs(r(i, c)) / scale(i, c));
+    if (omega <= kRefineAbove) break;
+    klu_l_solve(symbolic_, numeric_, r.rows(), r.cols(), r.data(), &common_);
+    x += r;
+  }
+  b = std::move(x);
 }
 
 VecX SparseLU::solve(const VecX& b) const {

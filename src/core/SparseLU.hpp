@@ -1,6 +1,9 @@
-// Sparse LU through SuiteSparse KLU (64-bit index routines). The symbolic analysis is done
-// once per pattern; numeric factorizations reuse it. Singular matrices raise NumericalError
-// with the reciprocal condition estimate, so callers can say what is singular and where.
+// Sparse LU through SuiteSparse KLU (64-bit index routines) in the saddle-point ordering
+// (core/SaddlePointOrdering: multipliers after their coordinates) with a small pivot tolerance,
+// so that KLU keeps the diagonal pivots the ordering was made for. The symbolic analysis is
+// done once per pattern; numeric factorizations reuse it (klu_refactor: same pivots). Singular
+// matrices raise NumericalError with the reciprocal condition estimate, so callers can say
+// what is singular and where. bench/linear/results.md has the measurements behind the choice.
 #pragma once
 
 #include <klu.h>
@@ -11,6 +14,9 @@
 
 namespace flexsens {
 
+/// Componentwise backward error above which a solve is refined (~45 ulp).
+inline constexpr double kRefineAbove = 1e-14;
+
 class SparseLU {
  public:
   SparseLU();
@@ -20,12 +26,22 @@ class SparseLU {
 
   /// Factorizes A; `what` names the matrix in error messages (e.g. "Newton matrix at t = 0.5 s").
   void factor(const SpMat& A, const std::string& what);
-  /// Solves A x = b in place (b may hold several columns).
+  /// Solves A x = b in place (b may hold several columns), refined against A while the
+  /// backward error is above kRefineAbove.
   void solve(MatX& b) const;
   VecX solve(const VecX& b) const;
   /// Reciprocal condition estimate of the last factorization (KLU's rcond, cheap).
   double rcond() const;
   long factorizations() const { return count_; }
+  /// nnz(L + U) / nnz(A) of the last factorization (1 + fill per entry of A; the diagonal once).
+  double fill() const { return fill_; }
+  /// Largest fill() over all factorizations so far.
+  double maxFill() const { return maxFill_; }
+  /// Wall time spent in numeric factorizations so far [s].
+  double factorSeconds() const { return seconds_; }
+  /// Pivots KLU took off the diagonal in the last fresh factorization (0 when the ordering
+  /// worked as intended; each one costs fill).
+  long offDiagonalPivots() const { return common_.noffdiag; }
   /// A factorization is held (false before the first and after one that failed).
   bool factorized() const { return numeric_ != nullptr; }
 
@@ -34,8 +50,10 @@ class SparseLU {
   mutable klu_l_common common_;
   klu_l_symbolic* symbolic_ = nullptr;
   klu_l_numeric* numeric_ = nullptr;
-  SpMat pattern_;  ///< copy of the structure analysed (values unused)
+  SpMat pattern_;  ///< the matrix factorized last (its structure is the one analysed)
   long count_ = 0;
+  double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0;
+  SpMat absA_;  ///< |A| of the factorized matrix (pattern_ holds A)
 };
 
 }  // namespace flexsens

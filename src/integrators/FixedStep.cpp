@@ -348,6 +348,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     if (m) st.maxConstraintViolation =
         std::max(st.maxConstraintViolation, as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>());
     st.factorizations = lu.factorizations();
+    st.luFill = lu.maxFill();
+    st.factorizationSeconds = lu.factorSeconds();
     endStep(obs, cur, st, step % every == 0 || step == nsteps);
   }
   return st;

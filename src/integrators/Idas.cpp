@@ -3,7 +3,6 @@
 
 #include <idas/idas.h>
 #include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <cmath>
@@ -13,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "integrators/IdasLinearSolver.hpp"
 #include "integrators/StepEnd.hpp"
 #include "integrators/TimeGrid.hpp"
 
@@ -115,6 +115,7 @@ struct Problem {
   }
   std::string lastError;  ///< last message from IDAS' error handler
   std::string failure;    ///< exception text caught inside a callback
+  std::string linearFailure;  ///< the last factorization that failed (IDAS may have recovered)
 };
 
 Eigen::Map<VecX> view(N_Vector v) { return {N_VGetArrayPointer(v), N_VGetLength(v)}; }
@@ -127,6 +128,7 @@ void check(int flag, const char* fn, const Problem& pb, double t) {
   os << "IDAS: " << fn << " failed at t = " << t << " s with " << (name ? name.get() : "an unknown flag");
   if (!pb.failure.empty()) os << " (" << pb.failure << ")";
   else if (!pb.lastError.empty()) os << " (" << pb.lastError << ")";
+  if (!pb.linearFailure.empty()) os << "; the last failed factorization: " << pb.linearFailure;
   if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL || flag == IDA_TOO_MUCH_WORK)
     os << "; try a looser rtol/atol, a smaller maximum step (dt), or check the model's "
           "stiffness and initial state";
@@ -218,7 +220,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   const int N = 2 * (n + m);
   const int Ns = static_cast<int>(start.dp.size());
   VecX pWork = p;  // IDAS' difference quotients perturb the parameters in place
-  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, {}};
+  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, {}, {}};
   double t = start.x.t;
 
   SUNContext rawCtx = nullptr;
@@ -268,8 +270,9 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   }
   std::unique_ptr<_generic_SUNMatrix, MatrixDeleter> J(
       SUNSparseMatrix(N, N, pb.acc.matrix().nonZeros(), CSC_MAT, ctx.get()));
-  std::unique_ptr<_generic_SUNLinearSolver, SolverDeleter> LS(SUNLinSol_KLU(y.get(), J.get(), ctx.get()));
-  if (!J || !LS) throw NumericalError("IDAS: could not create the KLU linear solver");
+  SparseLU lu;
+  std::unique_ptr<_generic_SUNLinearSolver, SolverDeleter> LS(sparseLULinearSolver(ctx.get(), lu, pb.linearFailure));
+  if (!J || !LS) throw NumericalError("IDAS: could not create the sparse LU linear solver");
   check(IDASetLinearSolver(ida, LS.get(), J.get()), "IDASetLinearSolver", pb, t);
   check(IDASetJacFn(ida, jacobian), "IDASetJacFn", pb, t);
 
@@ -311,6 +314,8 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     st.steps = counter(IDAGetNumSteps, "IDAGetNumSteps");
     st.newtonIterations = counter(IDAGetNumNonlinSolvIters, "IDAGetNumNonlinSolvIters");
     st.factorizations = counter(IDAGetNumLinSolvSetups, "IDAGetNumLinSolvSetups");
+    st.luFill = lu.maxFill();
+    st.factorizationSeconds = lu.factorSeconds();
     st.residualEvaluations = counter(IDAGetNumResEvals, "IDAGetNumResEvals");
     st.jacobianEvaluations = counter(IDAGetNumJacEvals, "IDAGetNumJacEvals");
     st.errorTestFailures = counter(IDAGetNumErrTestFails, "IDAGetNumErrTestFails");

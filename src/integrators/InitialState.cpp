@@ -8,6 +8,30 @@
 
 namespace flexsens {
 
+LeastNorm::LeastNorm(const Assembler& as, const VecX& q, const VecX& p) : n_(as.n()), m_(as.m()) {
+  SparseAccumulator acc;
+  acc.begin(n_ + m_, n_ + m_);
+  for (int i = 0; i < n_; ++i) acc.add(i, i, 1.0);
+  as.addPhiQ(acc, q, p, 1.0, 0, n_, true);
+  as.addPhiQ(acc, q, p, 1.0, n_, 0, false);
+  A_ = acc.finish();
+  try {
+    lu_ = std::make_unique<SparseLU>();
+    lu_->factor(A_, "least-norm projection matrix [I Phi_q^T; Phi_q 0]");
+  } catch (const NumericalError&) {
+    lu_.reset();
+    denseJ_ = as.phiQDense(q, p);
+  }
+}
+
+VecX LeastNorm::solve(const VecX& r) const {
+  if (!lu_) return denseJ_.completeOrthogonalDecomposition().solve(r);
+  VecX b = VecX::Zero(n_ + m_);
+  b.tail(m_) = r;
+  VecX x = lu_->solve(b);
+  x += lu_->solve(VecX(b - A_ * x));  // one step of iterative refinement
+  return x.head(n_);
+}
 
 VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
   if (as.m() == 0) return q;
@@ -16,9 +40,7 @@ VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
     const VecX r = as.phi(q, p);
     err = r.lpNorm<Eigen::Infinity>();
     if (err <= tol) return q;
-    const MatX J = as.phiQDense(q, p);
-    // Least-norm step dq = -J^T (J J^T)^+ r, via complete orthogonal decomposition of J.
-    q -= J.completeOrthogonalDecomposition().solve(r);
+    q -= LeastNorm(as, q, p).solve(r);  // dq = -J^T (J J^T)^+ r
   }
   std::ostringstream os;
   os << "the initial positions could not be brought onto the constraints: |Phi|_inf = " << err
@@ -29,8 +51,7 @@ VecX projectPositions(const Assembler& as, VecX q, const VecX& p, double tol) {
 
 VecX projectVelocities(const Assembler& as, const VecX& q, const VecX& v, const VecX& p) {
   if (as.m() == 0) return v;
-  const MatX J = as.phiQDense(q, p);
-  return v - J.completeOrthogonalDecomposition().solve(VecX(J * v + as.phiT(q, p)));
+  return v - LeastNorm(as, q, p).solve(VecX(as.phiQTimes(q, p, v) + as.phiT(q, p)));
 }
 
 VecX velocitySensitivityRhs(const Assembler& as, const VecX& q, const VecX& v, const VecX& p, int k,

@@ -36,6 +36,8 @@ struct IntegratorStats {
   long errorTestFailures = 0;
   long convergenceFailures = 0;  ///< IDAS: nonlinear failures; fixed step: modified-Newton steps redone with full Newton
   double maxConstraintViolation = 0.0;  ///< max over frames of |Phi|_inf
+  double luFill = 0.0;                  ///< largest nnz(L + U) / nnz(A) of the step matrices
+  double factorizationSeconds = 0.0;    ///< wall time in numeric factorizations [s]
 };
 
 /// Receives output frames; integrators call it at the requested frame times.
