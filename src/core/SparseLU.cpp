@@ -77,7 +77,6 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
     return common_.condest < 1e15;
   };
   std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), pattern_.valuePtr());  // A, for solve()
-  absA_ = pattern_.cwiseAbs();
   const auto start = std::chrono::steady_clock::now();
   bool ok;
   if (numeric_) {
@@ -118,8 +117,13 @@ void SparseLU::solve(MatX& b) const {
   // plain solve loses digits: the rigid five-bar's trapezoidal Newton then diverged 0.46 s
   // before the toggle, which refinement restores. An accurate solve costs two products.
   for (int pass = 0; pass < 2; ++pass) {
-    MatX r = b - pattern_ * x;
-    const MatX scale = absA_ * x.cwiseAbs() + b.cwiseAbs();
+    MatX r = b, scale = b.cwiseAbs();  // r = b - A x, scale = |A| |x| + |b|
+    for (Eigen::Index j = 0; j < pattern_.outerSize(); ++j)
+      for (SpMat::InnerIterator it(pattern_, j); it; ++it)
+        for (Eigen::Index c = 0; c < x.cols(); ++c) {
+          r(it.row(), c) -= it.value() * x(j, c);
+          scale(it.row(), c) += std::abs(it.value() * x(j, c));
+        }
     double omega = 0.0;
     for (Eigen::Index c = 0; c < x.cols(); ++c)
       for (Eigen::Index i = 0; i < x.rows(); ++i)

@@ -53,7 +53,6 @@ class SparseLU {
   SpMat pattern_;  ///< the matrix factorized last (its structure is the one analysed)
   long count_ = 0;
   double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0;
-  SpMat absA_;  ///< |A| of the factorized matrix (pattern_ holds A)
 };
 
 }  // namespace flexsens
