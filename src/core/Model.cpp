@@ -5,11 +5,14 @@ namespace flexsens {
 void Model::finalize() {
   // Node after node: its position coordinates, then its slope's (if it carries a free one).
   n = 0;
+  coordinateNode.clear();
   for (auto& nd : nodes) {
+    const int k = static_cast<int>(&nd - nodes.data());
     nd.firstDof = nd.ground ? -1 : n;
     if (!nd.ground) n += dim;
     nd.slopeDof = nd.slopeFree() ? n : -1;
     if (nd.slopeFree()) n += dim;
+    coordinateNode.resize(n, k);
   }
   m = 0;
   for (const auto& c : constraints) m += c->rows();
@@ -47,13 +50,11 @@ VecX Model::initialVelocities() const {
 }
 
 std::string Model::coordinateLabel(int i) const {
-  for (const auto& nd : nodes) {
-    if (!nd.ground && i >= nd.firstDof && i < nd.firstDof + dim)
-      return std::string(1, axisName(i - nd.firstDof)) + "(" + nd.name + ")";
-    if (nd.slopeDof >= 0 && i >= nd.slopeDof && i < nd.slopeDof + dim)
-      return std::string(1, axisName(i - nd.slopeDof)) + "'(" + nd.name + ")";
-  }
-  return "?";
+  if (i < 0 || i >= static_cast<int>(coordinateNode.size())) return "?";
+  const Node& nd = nodes[coordinateNode[i]];
+  if (!nd.ground && i >= nd.firstDof && i < nd.firstDof + dim)
+    return std::string(1, axisName(i - nd.firstDof)) + "(" + nd.name + ")";
+  return std::string(1, axisName(i - nd.slopeDof)) + "'(" + nd.name + ")";
 }
 
 }  // namespace flexsens

@@ -57,6 +57,9 @@ struct Model {
 
   int n = 0;  ///< number of coordinates
   int m = 0;  ///< number of scalar constraint equations
+  /// The node each coordinate belongs to (finalize): labels in O(1), not a search over the
+  /// nodes (12% of a 20-step run of a 20000-segment chain wrote its labels in O(n^2)).
+  std::vector<int> coordinateNode;
 
   /// Call after nodes, elements and constraints are in place: numbers the coordinates.
   void finalize();

@@ -27,7 +27,7 @@ int gmres(const SpMat& A, const SparseLU& P, const VecX& z0, double rel, int bud
   g[0] = beta;
   int k = 0;
   while (k < budget) {
-    VecX w = P.solve(VecX(A * V[k]));
+    VecX w = P.solve(VecX(A * V[k]), false);
     for (int i = 0; i <= k; ++i) {
       H(i, k) = w.dot(V[i]);
       w -= H(i, k) * V[i];
@@ -73,7 +73,7 @@ PreconditionedSolveResult preconditionedSolve(const SpMat& A, double normA, cons
     }
     const int budget = maxSolves - res.preconditionerSolves - 1;
     if (budget < 1) return res;
-    const VecX z0 = P.solve(r);
+    const VecX z0 = P.solve(r, false);
     ++res.preconditionerSolves;
     // Inner tolerance: a tenth of the reduction still needed; the outer loop checks the true
     // residual and refines away what round-off in the recurrences left.

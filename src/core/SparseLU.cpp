@@ -105,8 +105,12 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
   }
 }
 
-void SparseLU::solve(MatX& b) const {
+void SparseLU::solve(MatX& b, bool refine) const {
   if (!numeric_) throw std::logic_error("SparseLU::solve before factor");
+  if (!refine) {
+    klu_l_solve(symbolic_, numeric_, b.rows(), b.cols(), b.data(), &common_);
+    return;
+  }
   MatX x = b;
   klu_l_solve(symbolic_, numeric_, x.rows(), x.cols(), x.data(), &common_);
   // Iterative refinement, up to twice, while the componentwise backward error
@@ -118,12 +122,15 @@ void SparseLU::solve(MatX& b) const {
   // before the toggle, which refinement restores. An accurate solve costs two products.
   for (int pass = 0; pass < 2; ++pass) {
     MatX r = b, scale = b.cwiseAbs();  // r = b - A x, scale = |A| |x| + |b|
-    for (Eigen::Index j = 0; j < pattern_.outerSize(); ++j)
-      for (SpMat::InnerIterator it(pattern_, j); it; ++it)
-        for (Eigen::Index c = 0; c < x.cols(); ++c) {
-          r(it.row(), c) -= it.value() * x(j, c);
-          scale(it.row(), c) += std::abs(it.value() * x(j, c));
+    for (Eigen::Index c = 0; c < x.cols(); ++c)
+      for (Eigen::Index j = 0; j < pattern_.outerSize(); ++j) {
+        const double xj = x(j, c);
+        if (xj == 0.0) continue;
+        for (SpMat::InnerIterator it(pattern_, j); it; ++it) {
+          r(it.row(), c) -= it.value() * xj;
+          scale(it.row(), c) += std::abs(it.value() * xj);
         }
+      }
     double omega = 0.0;
     for (Eigen::Index c = 0; c < x.cols(); ++c)
       for (Eigen::Index i = 0; i < x.rows(); ++i)
@@ -135,9 +142,9 @@ void SparseLU::solve(MatX& b) const {
   b = std::move(x);
 }
 
-VecX SparseLU::solve(const VecX& b) const {
+VecX SparseLU::solve(const VecX& b, bool refine) const {
   MatX x = b;
-  solve(x);
+  solve(x, refine);
   return x.col(0);
 }
 

@@ -27,9 +27,10 @@ class SparseLU {
   /// Factorizes A; `what` names the matrix in error messages (e.g. "Newton matrix at t = 0.5 s").
   void factor(const SpMat& A, const std::string& what);
   /// Solves A x = b in place (b may hold several columns), refined against A while the
-  /// backward error is above kRefineAbove.
-  void solve(MatX& b) const;
-  VecX solve(const VecX& b) const;
+  /// backward error is above kRefineAbove; `refine` false: one plain solve (a preconditioner
+  /// inside an iteration that measures its own residual).
+  void solve(MatX& b, bool refine = true) const;
+  VecX solve(const VecX& b, bool refine = true) const;
   /// Reciprocal condition estimate of the last factorization (KLU's rcond, cheap).
   double rcond() const;
   long factorizations() const { return count_; }
