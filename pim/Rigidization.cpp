@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "constraints/Bilinear.hpp"
 #include "constraints/Distance.hpp"
 #include "constraints/KernelConstraintAD.hpp"
 
@@ -9,7 +10,8 @@ namespace flexsens {
 
 AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<int> nodes,
                                                  VecX coefficients, int dim, bool slope)
-    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim), slope_(slope) {
+    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim), slope_(slope),
+      gradients_(slope ? 1 : 0) {
   const int k = static_cast<int>(c_.size());
   const int w = slope ? 2 * dim : dim;  // local coordinates per node
   const MatX I = MatX::Identity(dim, dim);
@@ -37,6 +39,92 @@ void AttachedPointConstraint::jacobian(const LocalState&, MatX& J) const { J = J
 void AttachedPointConstraint::hessian(const LocalState&, int, MatX& H) const {
   H.setZero(J_.cols(), J_.cols());
 }
+
+namespace {
+
+/// The gradients of an ancf_beam body (every node with r_x, r_y, r_z) as directions fixed in
+/// it. Basis: the chords e_j = r_Bj - r_A of the basic points, completed to 3D by those
+/// gradients of A that widen the span (a straight beam: r_y,A and r_z,A). The frame stays rigid
+/// by the dot products of its vectors (chord pairs: the distances already there; pairs with a
+/// gradient: quadratic BilinearConstraints), and every other gradient g_i = sum_j c_j e_j,
+/// c = B^-1 g_i0 (linear). Local coordinates: 12 per node (positions and gradients).
+void attachBeamGradients(Rigidization& R, const std::string& name, const std::vector<int>& nodes,
+                         const std::vector<int>& basic, const Model& m, const MatX& X, const std::string& where) {
+  const int w = 12, nb = static_cast<int>(basic.size());
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Node& A = m.nodes[nodes[basic[0]]];
+  struct BasisVector {
+    MatX S;              ///< 3 x (nb w): the vector from the basic nodes' local coordinates
+    Eigen::Vector3d v0;  ///< at the undeformed state
+    bool fixed;          ///< no free coordinate enters it
+    int grad;            ///< the gradient of A it is (0, 1, 2), or -1 for a chord
+  };
+  std::vector<BasisVector> basis;
+  MatX E(3, 0);  // orthonormal basis of the span so far
+  auto widen = [&](const Eigen::Vector3d& v) {
+    Eigen::Vector3d r = v;
+    if (E.cols()) r -= E * (E.transpose() * v);
+    if (!(r.norm() > 1e-9 * v.norm())) return false;
+    E.conservativeResize(3, E.cols() + 1);
+    E.col(E.cols() - 1) = r.normalized();
+    return true;
+  };
+  for (int j = 1; j < nb; ++j) {
+    const Node& Bj = m.nodes[nodes[basic[j]]];
+    BasisVector b{MatX::Zero(3, nb * w), X.col(nodes[basic[j]]) - X.col(nodes[basic[0]]), A.ground && Bj.ground, -1};
+    b.S.block(0, j * w, 3, 3) = I;
+    b.S.block(0, 0, 3, 3) = -I;
+    widen(b.v0);
+    basis.push_back(b);
+  }
+  for (int g = 0; g < 3 && basis.size() < 3; ++g) {
+    const Eigen::Vector3d v = A.slope.segment<3>(3 * g);
+    if (!widen(v)) continue;
+    BasisVector b{MatX::Zero(3, nb * w), v, !A.slopeFree(), g};
+    b.S.block(0, 3 + 3 * g, 3, 3) = I;
+    basis.push_back(b);
+  }
+  if (basis.size() < 3)
+    throw InputError(where + ": the gradients of node '" + A.name + "' of '" + name + "' do not span space");
+  std::vector<int> ids;
+  for (int b : basic) ids.push_back(nodes[b]);
+  for (size_t i = 0; i < basis.size(); ++i)
+    for (size_t j = i; j < basis.size(); ++j) {
+      if (basis[i].grad < 0 && basis[j].grad < 0) continue;  // two chords: a distance above
+      if (basis[i].fixed && basis[j].fixed) continue;
+      auto label = [&](const BasisVector& b) {
+        return b.grad < 0 ? "chord" + std::to_string(&b - basis.data() + 1) : std::string("xyz").substr(b.grad, 1) + "(" + A.name + ")";
+      };
+      R.constraints.push_back(std::make_unique<BilinearConstraint>(
+          name + ".rigid.frame(" + label(basis[i]) + "," + label(basis[j]) + ")", "rigid_frame", ids, basis[i].S,
+          Eigen::Vector3d::Zero(), basis[j].S, Eigen::Vector3d::Zero(), basis[i].v0.dot(basis[j].v0), 3));
+    }
+  Eigen::Matrix3d B;
+  for (int j = 0; j < 3; ++j) B.col(j) = basis[j].v0;
+  const Eigen::PartialPivLU<Eigen::Matrix3d> lu(B);
+  bool allFixed = true;
+  for (const auto& b : basis) allFixed = allFixed && b.fixed;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const Node& nd = m.nodes[nodes[i]];
+    const auto it = std::find(basic.begin(), basic.end(), static_cast<int>(i));
+    const int slot = it != basic.end() ? static_cast<int>(it - basic.begin()) : nb;  // local node
+    std::vector<int> local = ids;
+    if (slot == nb) local.push_back(nodes[i]);
+    for (int g = 0; g < 3; ++g) {
+      bool inBasis = false;
+      for (const auto& b : basis) inBasis = inBasis || (slot == 0 && b.grad == g);
+      if (inBasis || (!nd.slopeFree() && allFixed)) continue;
+      const Eigen::Vector3d c = lu.solve(Eigen::Vector3d(nd.slope.segment<3>(3 * g)));
+      MatX J = MatX::Zero(3, static_cast<int>(local.size()) * w);
+      J.block(0, slot * w + 3 + 3 * g, 3, 3) = I;
+      for (int j = 0; j < 3; ++j) J.leftCols(nb * w) -= c[j] * basis[j].S;
+      R.constraints.push_back(std::make_unique<AttachedPointConstraint>(
+          name + ".rigid.gradient(" + nd.name + "," + "xyz"[g] + ")", local, J, 3));
+    }
+  }
+}
+
+}  // namespace
 
 int Rigidization::rows() const {
   int r = 0;
@@ -112,6 +200,17 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   }
   // Free slopes (ANCF nodes), when every basic point carries a slope too (an ANCF body; a
   // node of another kind among them leaves the slopes free: pinned to the body).
+  // ancf_beam bodies: every node carries r_x, r_y, r_z (a body mixing them with other nodes
+  // is not supported: its frame would have no gradients on some basic points).
+  int beamNodes = 0;
+  for (int i : nodes) beamNodes += m.nodes[i].gradients(dim) == 3;
+  if (beamNodes == static_cast<int>(nodes.size())) {
+    attachBeamGradients(R, name, nodes, basic, m, X, where);
+    return R;
+  }
+  if (beamNodes > 0)
+    throw InputError(where + ": '" + name + "' mixes ancf_beam nodes (three gradients) with other nodes; "
+                     "rigidizing such a body is not supported");
   bool basicSlopes = true;
   for (int b : basic) basicSlopes = basicSlopes && m.nodes[nodes[b]].hasSlope();
   for (size_t i = 0; i < nodes.size() && basicSlopes; ++i) {
