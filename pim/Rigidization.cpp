@@ -42,85 +42,55 @@ void AttachedPointConstraint::hessian(const LocalState&, int, MatX& H) const {
 
 namespace {
 
-/// The gradients of an ancf_beam body (every node with r_x, r_y, r_z) as directions fixed in
-/// it. Basis: the chords e_j = r_Bj - r_A of the basic points, completed to 3D by those
-/// gradients of A that widen the span (a straight beam: r_y,A and r_z,A). The frame stays rigid
-/// by the dot products of its vectors (chord pairs: the distances already there; pairs with a
-/// gradient: quadratic BilinearConstraints), and every other gradient g_i = sum_j c_j e_j,
-/// c = B^-1 g_i0 (linear). Local coordinates: 12 per node (positions and gradients).
-void attachBeamGradients(Rigidization& R, const std::string& name, const std::vector<int>& nodes,
-                         const std::vector<int>& basic, const Model& m, const MatX& X, const std::string& where) {
-  const int w = 12, nb = static_cast<int>(basic.size());
+/// An ancf_beam body (every node with r_x, r_y, r_z): its frame is the gradient triad of the
+/// first node A, g_j = (r_x, r_y, r_z)_A, kept rigid by its metric, g_i . g_j = G_ij (6
+/// quadratic BilinearConstraints); every other point and every other gradient keeps its
+/// coordinates in that frame, c = G^-1 J_A^T (r_i - r_A) or G^-1 J_A^T g (linear:
+/// r_i - r_A - sum_j c_j g_j, g - sum_j c_j g_j). A straight beam's nodes alone would span a
+/// line; the triad spans space at any shape. Rows among fixed coordinates only are left out
+/// (a clamped A: its frame; with it every fixed target). Local coordinates: 12 per node.
+void rigidizeBeamBody(Rigidization& R, const std::string& name, const std::vector<int>& nodes, const Model& m,
+                      const MatX& X, const std::string& where) {
+  const int w = 12;
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  const Node& A = m.nodes[nodes[basic[0]]];
-  struct BasisVector {
-    MatX S;              ///< 3 x (nb w): the vector from the basic nodes' local coordinates
-    Eigen::Vector3d v0;  ///< at the undeformed state
-    bool fixed;          ///< no free coordinate enters it
-    int grad;            ///< the gradient of A it is (0, 1, 2), or -1 for a chord
-  };
-  std::vector<BasisVector> basis;
-  MatX E(3, 0);  // orthonormal basis of the span so far
-  auto widen = [&](const Eigen::Vector3d& v) {
-    Eigen::Vector3d r = v;
-    if (E.cols()) r -= E * (E.transpose() * v);
-    if (!(r.norm() > 1e-9 * v.norm())) return false;
-    E.conservativeResize(3, E.cols() + 1);
-    E.col(E.cols() - 1) = r.normalized();
-    return true;
-  };
-  for (int j = 1; j < nb; ++j) {
-    const Node& Bj = m.nodes[nodes[basic[j]]];
-    BasisVector b{MatX::Zero(3, nb * w), X.col(nodes[basic[j]]) - X.col(nodes[basic[0]]), A.ground && Bj.ground, -1};
-    b.S.block(0, j * w, 3, 3) = I;
-    b.S.block(0, 0, 3, 3) = -I;
-    widen(b.v0);
-    basis.push_back(b);
-  }
-  for (int g = 0; g < 3 && basis.size() < 3; ++g) {
-    const Eigen::Vector3d v = A.slope.segment<3>(3 * g);
-    if (!widen(v)) continue;
-    BasisVector b{MatX::Zero(3, nb * w), v, !A.slopeFree(), g};
-    b.S.block(0, 3 + 3 * g, 3, 3) = I;
-    basis.push_back(b);
-  }
-  if (basis.size() < 3)
+  const Node& A = m.nodes[nodes[0]];
+  const Eigen::Matrix3d JA = Eigen::Map<const Eigen::Matrix3d>(A.slope.data());
+  const Eigen::Matrix3d G = JA.transpose() * JA;
+  const Eigen::LDLT<Eigen::Matrix3d> metric(G);
+  if (!(std::abs(JA.determinant()) > 1e-9))
     throw InputError(where + ": the gradients of node '" + A.name + "' of '" + name + "' do not span space");
-  std::vector<int> ids;
-  for (int b : basic) ids.push_back(nodes[b]);
-  for (size_t i = 0; i < basis.size(); ++i)
-    for (size_t j = i; j < basis.size(); ++j) {
-      if (basis[i].grad < 0 && basis[j].grad < 0) continue;  // two chords: a distance above
-      if (basis[i].fixed && basis[j].fixed) continue;
-      auto label = [&](const BasisVector& b) {
-        return b.grad < 0 ? "chord" + std::to_string(&b - basis.data() + 1) : std::string("xyz").substr(b.grad, 1) + "(" + A.name + ")";
-      };
-      R.constraints.push_back(std::make_unique<BilinearConstraint>(
-          name + ".rigid.frame(" + label(basis[i]) + "," + label(basis[j]) + ")", "rigid_frame", ids, basis[i].S,
-          Eigen::Vector3d::Zero(), basis[j].S, Eigen::Vector3d::Zero(), basis[i].v0.dot(basis[j].v0), 3));
-    }
-  Eigen::Matrix3d B;
-  for (int j = 0; j < 3; ++j) B.col(j) = basis[j].v0;
-  const Eigen::PartialPivLU<Eigen::Matrix3d> lu(B);
-  bool allFixed = true;
-  for (const auto& b : basis) allFixed = allFixed && b.fixed;
+  const bool frameFixed = !A.slopeFree();
+  if (!frameFixed)
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        MatX Si = MatX::Zero(3, w), Sj = MatX::Zero(3, w);
+        Si.block(0, 3 + 3 * i, 3, 3) = I;
+        Sj.block(0, 3 + 3 * j, 3, 3) = I;
+        R.constraints.push_back(std::make_unique<BilinearConstraint>(
+            name + ".rigid.frame(" + "xyz"[i] + "," + "xyz"[j] + ")", "rigid_frame", std::vector<int>{nodes[0]}, Si,
+            Eigen::Vector3d::Zero(), Sj, Eigen::Vector3d::Zero(), G(i, j), 3));
+      }
+  // target: local slot 0 (A) or 1 (node i); component 0 the position, 1 + g gradient g
+  auto attach = [&](size_t i, int comp, const Eigen::Vector3d& rel, const std::string& label) {
+    const Node& nd = m.nodes[nodes[i]];
+    const bool fixedTarget = comp == 0 ? (nd.ground && A.ground) : !nd.slopeFree();
+    if (fixedTarget && frameFixed) return;
+    const Eigen::Vector3d c = metric.solve(JA.transpose() * rel);
+    std::vector<int> local = {nodes[0]};
+    if (i > 0) local.push_back(nodes[i]);
+    const int slot = i > 0 ? 1 : 0;
+    MatX J = MatX::Zero(3, static_cast<int>(local.size()) * w);
+    J.block(0, slot * w + 3 * comp, 3, 3) += I;
+    if (comp == 0) J.block(0, 0, 3, 3) -= I;  // r_i - r_A
+    for (int j = 0; j < 3; ++j) J.block(0, 3 + 3 * j, 3, 3) -= c[j] * I;
+    R.constraints.push_back(std::make_unique<AttachedPointConstraint>(name + label, local, J, 3));
+  };
   for (size_t i = 0; i < nodes.size(); ++i) {
     const Node& nd = m.nodes[nodes[i]];
-    const auto it = std::find(basic.begin(), basic.end(), static_cast<int>(i));
-    const int slot = it != basic.end() ? static_cast<int>(it - basic.begin()) : nb;  // local node
-    std::vector<int> local = ids;
-    if (slot == nb) local.push_back(nodes[i]);
-    for (int g = 0; g < 3; ++g) {
-      bool inBasis = false;
-      for (const auto& b : basis) inBasis = inBasis || (slot == 0 && b.grad == g);
-      if (inBasis || (!nd.slopeFree() && allFixed)) continue;
-      const Eigen::Vector3d c = lu.solve(Eigen::Vector3d(nd.slope.segment<3>(3 * g)));
-      MatX J = MatX::Zero(3, static_cast<int>(local.size()) * w);
-      J.block(0, slot * w + 3 + 3 * g, 3, 3) = I;
-      for (int j = 0; j < 3; ++j) J.leftCols(nb * w) -= c[j] * basis[j].S;
-      R.constraints.push_back(std::make_unique<AttachedPointConstraint>(
-          name + ".rigid.gradient(" + nd.name + "," + "xyz"[g] + ")", local, J, 3));
-    }
+    if (i > 0) attach(i, 0, X.col(nodes[i]) - X.col(nodes[0]), ".rigid.point(" + nd.name + ")");
+    if (i > 0)
+      for (int g = 0; g < 3; ++g)
+        attach(i, 1 + g, nd.slope.segment<3>(3 * g), ".rigid.gradient(" + nd.name + "," + "xyz"[g] + ")");
   }
 }
 
@@ -169,6 +139,17 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   R.cloudDimension = static_cast<int>(basic.size()) - 1;
   for (int b : basic) R.basicPoints.push_back(nodes[b]);
   const auto ground = [&](int i) { return m.nodes[nodes[i]].ground; };
+  // ancf_beam bodies: every node carries r_x, r_y, r_z (a body mixing them with other nodes
+  // is not supported: its frame would be the gradients of some nodes only).
+  int beamNodes = 0;
+  for (int i : nodes) beamNodes += m.nodes[i].gradients(dim) == 3;
+  if (beamNodes == static_cast<int>(nodes.size())) {
+    rigidizeBeamBody(R, name, nodes, m, X, where);
+    return R;
+  }
+  if (beamNodes > 0)
+    throw InputError(where + ": '" + name + "' mixes ancf_beam nodes (three gradients) with other nodes; "
+                     "rigidizing such a body is not supported");
   // Distances among basic points (1, 3 or 6 quadratic constraints).
   for (size_t i = 0; i < basic.size(); ++i)
     for (size_t j = i + 1; j < basic.size(); ++j) {
@@ -200,17 +181,6 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   }
   // Free slopes (ANCF nodes), when every basic point carries a slope too (an ANCF body; a
   // node of another kind among them leaves the slopes free: pinned to the body).
-  // ancf_beam bodies: every node carries r_x, r_y, r_z (a body mixing them with other nodes
-  // is not supported: its frame would have no gradients on some basic points).
-  int beamNodes = 0;
-  for (int i : nodes) beamNodes += m.nodes[i].gradients(dim) == 3;
-  if (beamNodes == static_cast<int>(nodes.size())) {
-    attachBeamGradients(R, name, nodes, basic, m, X, where);
-    return R;
-  }
-  if (beamNodes > 0)
-    throw InputError(where + ": '" + name + "' mixes ancf_beam nodes (three gradients) with other nodes; "
-                     "rigidizing such a body is not supported");
   bool basicSlopes = true;
   for (int b : basic) basicSlopes = basicSlopes && m.nodes[nodes[b]].hasSlope();
   for (size_t i = 0; i < nodes.size() && basicSlopes; ++i) {

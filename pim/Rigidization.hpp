@@ -5,9 +5,9 @@
 //   Lambda_i = r_i - r_A - sum_j c_ij e_j = C_i q   (linear, dim rows).
 // A node's free slope (ANCF) is a direction fixed in the body, with coordinates from G c = B^T r_i':
 //   Lambda_i' = r_i' - sum_j c_ij e_j               (linear, dim rows).
-// The three gradients r_x, r_y, r_z of ancf_beam nodes: directions fixed in the body too; a
-// straight (or flat) node cloud is completed to a 3D frame by the gradients of A, kept rigid
-// by their dot products with each other and with the chords (see rigidize).
+// An ancf_beam body (nodes with r_x, r_y, r_z): the frame is the gradient triad of its first
+// node, kept rigid by its metric (6 quadratic rows); every other point and gradient keeps its
+// coordinates in it (linear rows; see rigidizeBeamBody in the .cpp).
 // Used by the PIM for initially undeformed flexible bodies, and for rigid models of bodies.
 #pragma once
 

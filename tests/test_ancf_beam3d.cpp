@@ -14,6 +14,7 @@
 #include "elements/AncfBeam3D.hpp"
 #include "elements/PointForce.hpp"
 #include "integrators/Static.hpp"
+#include "pim/Rigidization.hpp"
 #include "scene/Scene.hpp"
 
 using namespace flexsens;
@@ -416,4 +417,74 @@ TEST(AncfBeam3DScene, GivenGradients) {
   EXPECT_THROW(readSceneText(beamScene(true, ", slope: [1, 0, 0]"), "beam.yaml"), InputError);
   EXPECT_THROW(readSceneText(beamScene(true, ", gradients: [[1, 0, 0], [0, 1, 0], [0, 1, 0]]"), "beam.yaml"),
                InputError);
+}
+
+// ------------------------------------------------------------------------ PIM: gradients
+namespace {
+
+/// Rigid velocities of a model with ancf_beam nodes: v_i = u + w x r_i on positions, w x g on
+/// every free gradient g; one column per motion (3 translations, 3 rotations).
+MatX rigidVelocities(const Model& m, const VecX& q) {
+  MatX V = MatX::Zero(m.n, 6);
+  for (int k = 0; k < 6; ++k) {
+    const Eigen::Vector3d u = k < 3 ? Eigen::Vector3d(Eigen::Vector3d::Unit(k)) : Eigen::Vector3d(Eigen::Vector3d::Zero());
+    const Eigen::Vector3d w = k < 3 ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(Eigen::Vector3d::Unit(k - 3));
+    for (int i = 0; i < static_cast<int>(m.nodes.size()); ++i) {
+      if (m.dof(i, 0) >= 0) {
+        const Eigen::Vector3d r(q[m.dof(i, 0)], q[m.dof(i, 1)], q[m.dof(i, 2)]);
+        V.block<3, 1>(m.dof(i, 0), k) = u + w.cross(r);
+      }
+      for (int g = 0; g < 3; ++g)
+        if (m.dof(i, 3 + 3 * g) >= 0) {
+          const int d = m.dof(i, 3 + 3 * g);
+          V.block<3, 1>(d, k) = w.cross(Eigen::Vector3d(q.segment<3>(d)));
+        }
+    }
+  }
+  return V;
+}
+
+}  // namespace
+
+// Rigidizing an undeformed ancf_beam body also fixes its gradients as directions in the body
+// (a straight chain's frame is completed by A's r_y, r_z): what is left are the 6 rigid
+// motions of a free body, 3 (rotations about A) when A is a pinned ground node, none when it
+// is clamped. Phi = 0 at the undeformed state, no redundant row, Phi_q against central FD, and
+// every rigid velocity in its null space.
+TEST(AncfBeam3DRigidization, LeavesTheRigidMotions) {
+  struct Case {
+    std::string name, groundKeys;
+    bool kinked;
+    int motions;
+  };
+  for (const Case& c : {Case{"free straight", "", false, 6}, Case{"free kinked", "", true, 6},
+                        Case{"pinned", ", ground: true", false, 3}, Case{"clamped", ", ground: true, clamped: true", false, 0}}) {
+    SCOPED_TRACE(c.name);
+    const std::string text =
+        "dimension: 3\nnodes:\n"
+        "  - {name: A, position: [0.1, 0.2, 0.3]" + c.groundKeys + "}\n"
+        "  - {name: n1, position: [0.5, 0.6, 0.5]}\n"
+        "  - {name: n2, position: [" + std::string(c.kinked ? "0.7, 1.3, 0.4" : "0.9, 1.0, 0.7") + "]}\n"
+        "  - {name: n3, position: [" + std::string(c.kinked ? "0.6, 1.5, 1.0" : "1.3, 1.4, 0.9") + "]}\n"
+        "elements:\n"
+        "  - {name: b, type: ancf_beam, nodes: [A, n1, n2, n3], E: 2.0e11, nu: 0.3, density: 7850,\n"
+        "     section: {width: 0.02, height: 0.01}}\n"
+        "integrator: {type: trapezoidal, t_end: 0.1, dt: 0.01}\n";
+    const Scene sc = readSceneText(text, "body.yaml");
+    const Model& m = *sc.model;
+    const std::vector<int> all = {0, 1, 2, 3};
+    MatX X(3, 4);
+    for (int i = 0; i < 4; ++i) X.col(i) = m.nodes[i].position;
+    Rigidization R = rigidize("b", all, m, X, "test");
+    Assembler as(m, &R.constraints);
+    const VecX q = m.initialPositions(), p = m.nominalParameters();
+    EXPECT_LT(as.phi(q, p).lpNorm<Eigen::Infinity>(), 1e-12);
+    const MatX J = as.phiQDense(q, p);
+    EXPECT_LT(rel(fdJacobian([&](const VecX& x) { return as.phi(x, p); }, q), J), 1e-8);
+    Eigen::FullPivLU<MatX> lu(J);
+    lu.setThreshold(1e-10);
+    EXPECT_EQ(m.n - lu.rank(), c.motions);
+    EXPECT_EQ(lu.rank(), J.rows());  // no redundant equation
+    if (c.motions == 6) EXPECT_LT((J * rigidVelocities(m, q)).lpNorm<Eigen::Infinity>(), 1e-12);
+  }
 }
