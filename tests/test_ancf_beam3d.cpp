@@ -488,3 +488,45 @@ TEST(AncfBeam3DRigidization, LeavesTheRigidMotions) {
     if (c.motions == 6) EXPECT_LT((J * rigidVelocities(m, q)).lpNorm<Eigen::Infinity>(), 1e-12);
   }
 }
+
+// A PIM case rigidizes a pinned ancf_beam (gradients included): 3 motions are left, the
+// rotations about A, named by the tip's y and z and a gradient component ("z_y": r_y's z, the
+// twist about the axis, which no position of a straight beam shows).
+TEST(AncfBeam3DRigidization, SceneCaseWithGradientSdof) {
+  const std::string text = beamScene(false) +
+                           "parameters:\n  - {name: E_b, of: b, property: E}\n"
+                           "cases:\n  - {name: S1, parameters: [E_b], rigidize: [b], sdofs: [{node: n2, component: y}, "
+                           "{node: n2, component: z}, {node: n2, component: z_y}]}\n";
+  const Scene sc = readSceneText(text, "case.yaml", "S1");
+  ASSERT_TRUE(sc.pimCase);
+  ASSERT_EQ(sc.pimCase->sdofs.size(), 3u);
+  EXPECT_EQ(sc.pimCase->sdofs[2]->name, "z_y(n2)");
+  int rows = 0;
+  for (const auto& c : sc.pimCase->lambda) rows += c->rows();
+  EXPECT_EQ(rows, sc.model->n - 3);
+}
+
+// The bad ancf_beam scenes' exact messages (tests/test_bad_scenes.cpp checks file, line and
+// key of every bad scene through the command line).
+TEST(AncfBeam3DScene, BadScenesSayWhatIsWrong) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"bad_ancf_beam_zero_length.yaml",
+       ":8:50: key 'elements[0].nodes[2]': coincides with the previous node: zero element length"},
+      {"bad_ancf_beam_gradient_size.yaml", ":5:62: key 'nodes[1].gradients[1]': expected a list of 3 numbers"},
+      {"bad_ancf_beam_gradient_count.yaml",
+       ":5:50: key 'nodes[1].gradients': expected three vectors r_x, r_y, r_z (a right-handed orthonormal frame); got 2"},
+      {"bad_ancf_beam_cable_slope.yaml",
+       ":5:46: key 'nodes[1].slope': node 'n1' carries one slope (ancf_cable); an ancf_beam node takes gradients "
+       "(r_x, r_y, r_z)"},
+      {"bad_ancf_beam_planar.yaml", ":7:24: key 'elements[0].type': ancf_beam needs a spatial scene (dimension 3)"},
+  };
+  for (const auto& [file, tail] : cases) {
+    const std::string path = test::sourceDir() + "/tests/scenes/bad/" + file;
+    try {
+      readScene(path);
+      ADD_FAILURE() << file << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), path + tail);
+    }
+  }
+}
