@@ -176,7 +176,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
     dq.push_back(vectorArray("dq/d" + m.parameters[k].name));
     dv.push_back(vectorArray("dv/d" + m.parameters[k].name));
   }
-  // Nodes say what they carry: when some carry a slope (ANCF), the slope r' = dr/ds [-], its
+  // Nodes say what they carry: when some carry a slope (ANCF; an ancf_beam node: its r_x), the slope r' = dr/ds [-], its
   // rate [1/s] and its sensitivities are point-data vectors too (zero on nodes without one).
   bool slopes = false;
   for (const Node& nd : m.nodes) slopes = slopes || nd.hasSlope();
