@@ -530,3 +530,73 @@ TEST(AncfBeam3DScene, BadScenesSayWhatIsWrong) {
     }
   }
 }
+
+// ---------------------------------------------------------------- static sensitivities
+// A clamped ancf_beam under gravity and a tip force across it, deflected ~5% of L (nonlinear):
+// dq/dp from staticSensitivities for E, nu, density, width and height against central
+// differences of whole static solutions (relative step 1e-4).
+TEST(AncfBeam3DStatic, SensitivitiesMatchCentralDifferences) {
+  const Scene sc = readSceneText(
+      "dimension: 3\ngravity: [0, 0, -9.81]\nnodes:\n"
+      "  - {name: A, position: [0, 0, 0], ground: true, clamped: true}\n"
+      "  - {name: n1, position: [0.4, 0, 0]}\n  - {name: n2, position: [0.8, 0, 0]}\n  - {name: tip, position: [1.2, 0, 0]}\n"
+      "elements:\n"
+      "  - {name: b, type: ancf_beam, nodes: [A, n1, n2, tip], E: 2.0e9, nu: 0.3, density: 7850,\n"
+      "     section: {width: 0.03, height: 0.02}}\n"
+      "  - {name: load, type: point_force, node: tip, force: [0, 6, 0]}\n"
+      "parameters:\n  - {name: E, of: b, property: E}\n  - {name: nu, of: b, property: nu}\n"
+      "  - {name: rho, of: b, property: density}\n  - {name: w, of: b, property: width}\n"
+      "  - {name: h, of: b, property: height}\n"
+      "static: {load_steps: 5}\n",
+      "static.yaml");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const VecX p = m.nominalParameters();
+  StaticSettings set;
+  set.stepLoadFactor = true;
+  StaticReport rep;
+  const VecX q = solveStatic(as, p, m.initialPositions(), set, &rep);
+  const int tip = m.nodeIndex("tip");
+  std::printf("tip (y, z) = (%.4f, %.4f) m\n", q[m.dof(tip, 1)], q[m.dof(tip, 2)]);
+  EXPECT_GT(q[m.dof(tip, 1)], 0.03);
+  const StaticSensitivity d = staticSensitivities(as, q, rep.lambda, p);
+  StaticSettings one;
+  one.steps = 1;
+  one.tol = 1e-14;
+  for (int k = 0; k < static_cast<int>(p.size()); ++k) {
+    const double h = 1e-4 * p[k];  // truncation ~1e-8 relative; Newton's tolerance / h well below
+    VecX pp = p, pm = p;
+    pp[k] += h;
+    pm[k] -= h;
+    const VecX fd = (solveStatic(as, pp, q, one) - solveStatic(as, pm, q, one)) / (2 * h);
+    const double err = (d.qp.col(k) - fd).lpNorm<Eigen::Infinity>() / fd.lpNorm<Eigen::Infinity>();
+    std::printf("  d q / d %s: |FD| %.3e, rel. error %.2e\n", m.parameters[k].name.c_str(), fd.lpNorm<Eigen::Infinity>(), err);
+    EXPECT_LT(err, 1e-6) << m.parameters[k].name;
+  }
+}
+
+// Initial gradient rates from the nodes' velocities: a chain turning rigidly with w about an
+// axis across it gives every free gradient the rate w x g (and no stretch rate).
+TEST(AncfBeam3DScene, GradientRatesOfARigidTurn) {
+  const Eigen::Vector3d w(0.0, 0.3, 2.0);  // [rad/s], normal to the chain (along x)
+  std::string nodes;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d r(0.5 * i, 0, 0), v = w.cross(r);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "  - {name: n%d, position: [%g, 0, 0], velocity: [%.17g, %.17g, %.17g]}\n", i,
+                  r[0], v[0], v[1], v[2]);
+    nodes += buf;
+  }
+  const Scene sc = readSceneText("dimension: 3\nnodes:\n" + nodes +
+                                     "elements:\n  - {type: ancf_beam, nodes: [n0, n1, n2], E: 2.0e11, nu: 0.3, "
+                                     "density: 7850, section: {side: 0.01}}\n"
+                                     "integrator: {type: trapezoidal, t_end: 0.1, dt: 0.01}\n",
+                                 "turn.yaml");
+  for (const Node& nd : sc.model->nodes) {
+    ASSERT_EQ(nd.slopeRate.size(), 9) << nd.name;
+    for (int g = 0; g < 3; ++g)
+      EXPECT_LT((Eigen::Vector3d(nd.slopeRate.segment<3>(3 * g)) - w.cross(Eigen::Vector3d(nd.slope.segment<3>(3 * g)))).norm(),
+                1e-14)
+          << nd.name << " gradient " << g;
+  }
+}
