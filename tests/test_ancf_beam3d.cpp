@@ -600,3 +600,34 @@ TEST(AncfBeam3DScene, GradientRatesOfARigidTurn) {
           << nd.name << " gradient " << g;
   }
 }
+
+// F-R twin: `rigid_model: [b]` makes an ancf_beam body rigid with its own consistent mass.
+// A pinned horizontal rod (A at the origin, along x) released under gravity -g e_z: 3 motions
+// are left, and its initial angular acceleration is the rigid body's, alpha = m g L/2 / I_A,
+// I_A = rho (A L^3/3 + L w h^3/12) (the section's own z^2 inertia included), so the tip's
+// acceleration is -alpha L e_z, from the constrained equations M a + Phi_q^T lambda = Q, Phi_q a = 0.
+TEST(AncfBeam3DRigidization, RigidTwinSwingsAsARigidRod) {
+  const std::string text = beamScene(false) + "parameters:\n  - {name: rho, of: b, property: density}\n" +
+                           "cases:\n  - {name: R1, parameters: [rho], rigid_model: [b]}\n";
+  const Scene sc = readSceneText(text, "twin.yaml", "R1");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const VecX q = m.initialPositions(), v = VecX::Zero(m.n), p = m.nominalParameters();
+  const MatX J = as.phiQDense(q, p), M = MatX(as.mass(p));
+  Eigen::FullPivLU<MatX> lu(J);
+  lu.setThreshold(1e-10);
+  EXPECT_EQ(m.n - lu.rank(), 3);
+  MatX K = MatX::Zero(m.n + J.rows(), m.n + J.rows());
+  K.topLeftCorner(m.n, m.n) = M;
+  K.topRightCorner(m.n, J.rows()) = J.transpose();
+  K.bottomLeftCorner(J.rows(), m.n) = J;
+  VecX rhs = VecX::Zero(K.rows());
+  rhs.head(m.n) = as.force(q, v, p);
+  const VecX a = K.fullPivLu().solve(rhs);
+  const double L = 1.0, w = 0.02, h = 0.01, rho = 7850, g = 9.81;
+  const double mass = rho * w * h * L, IA = rho * (w * h * L * L * L / 3 + L * w * h * h * h / 12);
+  const double alpha = mass * g * L / 2 / IA;
+  const int tip = m.nodeIndex("n2");
+  EXPECT_NEAR(a[m.dof(tip, 2)] / (-alpha * L), 1.0, 1e-10);
+  EXPECT_NEAR(a[m.dof(tip, 0)], 0.0, 1e-10);
+}
