@@ -17,8 +17,8 @@
 // remedy:
 //  - Poisson locking: the section can only stretch uniformly, so with the isotropic law
 //    (lambda > 0) the lateral contraction that varies across the section in bending is
-//    blocked and bending stiffens (by (1 - nu) / ((1 + nu)(1 - 2 nu)), 1.35 at nu = 0.3,
-//    in the uniaxial limit). Remedy: the normal stresses are
+//    blocked and bending stiffens (by up to (1 - nu) / ((1 + nu)(1 - 2 nu)), 1.35 at
+//    nu = 0.3, with the contraction fully blocked). Remedy: the normal stresses are
 //    uncoupled, S_xx = E E_xx, S_yy = E E_yy, S_zz = E E_zz (the law at nu = 0 on the
 //    diagonal), while the shear keeps G = E / (2 (1 + nu)): bending gives EI exactly, shear and
 //    torsion the shear modulus of the material;
@@ -35,7 +35,7 @@
 // Torsion: plane sections without warping give the torsion constant I_p = (w h^3 + h w^3) / 12
 // (the polar moment), not Saint-Venant's J (square: 0.1406 a^4 against a^4 / 6).
 //
-// Constant consistent mass rho int S^T S dV = rho (A M_N + I_zz' M_Y + I_yy' M_Z) (x) I_3
+// Constant consistent mass rho int S^T S dV = rho (A M_N + (w^3 h / 12) M_Y + (w h^3 / 12) M_Z) (x) I_3
 // (A = w h, int y^2 dA = w^3 h / 12, int z^2 dA = w h^3 / 12; the shape integrals computed once).
 // Gravity Q_g = M (g on both positions, 0 on gradients): a uniform field is a translation.
 //
