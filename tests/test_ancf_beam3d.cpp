@@ -514,6 +514,11 @@ TEST(AncfBeam3DScene, BadScenesSayWhatIsWrong) {
        ":5:46: key 'nodes[1].slope': node 'n1' carries one slope (ancf_cable); an ancf_beam node takes gradients "
        "(r_x, r_y, r_z)"},
       {"bad_ancf_beam_planar.yaml", ":7:24: key 'elements[0].type': ancf_beam needs a spatial scene (dimension 3)"},
+      {"bad_ancf_beam_y_axis.yaml",
+       ":8:14: key 'elements[0].y_axis': is along the beam at node 'A': expected a direction across it"},
+      {"bad_ancf_cable_gradients.yaml",
+       ":5:50: key 'nodes[1].gradients': node 'n1' carries the three gradients of an ancf_beam; an ancf_cable node "
+       "has one slope"},
   };
   for (const auto& [file, tail] : cases) {
     const std::string path = test::sourceDir() + "/tests/scenes/bad/" + file;
