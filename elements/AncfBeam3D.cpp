@@ -1,5 +1,6 @@
 #include "elements/AncfBeam3D.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "elements/KernelElementAD.hpp"
@@ -68,12 +69,16 @@ AncfBeam3D::AncfBeam3D(std::string name, std::vector<int> nodes, std::shared_ptr
   if (normalPoints < 1 || shearPoints < 1) throw std::invalid_argument(who + ": needs at least one Gauss point");
   // 2 x 2 Gauss across the section: eta, zeta = +-1/(2 sqrt 3) on [-1/2, 1/2], weight 1/4 each.
   const double c = 0.5 / std::sqrt(3.0);
-  for (auto [n, shear] : {std::pair<int, bool>{normalPoints, false}, {shearPoints, true}}) {
+  // One set of points for both strain groups when they share the rule (the default).
+  using Group = std::array<int, 3>;  // points, k0, k1
+  const std::vector<Group> groups = normalPoints == shearPoints ? std::vector<Group>{{normalPoints, 0, 6}}
+                                                                : std::vector<Group>{{normalPoints, 0, 3}, {shearPoints, 3, 6}};
+  for (const Group& gr : groups) {
     std::vector<double> xs, ws;
-    gaussLegendre01(n, xs, ws);
-    for (int g = 0; g < n; ++g)
+    gaussLegendre01(gr[0], xs, ws);
+    for (int g = 0; g < gr[0]; ++g)
       for (double eta : {-c, c})
-        for (double zeta : {-c, c}) pts_.push_back({xs[g], eta, zeta, 0.25 * ws[g], shear});
+        for (double zeta : {-c, c}) pts_.push_back({xs[g], eta, zeta, 0.25 * ws[g], gr[1], gr[2]});
   }
   // Shape integrals (degree 6 in xi: 4 Gauss points are exact).
   std::vector<double> xs, ws;
@@ -146,8 +151,10 @@ VecT<T> AncfBeam3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&
     const T W = V * P.w;
     // dU/de_i / W = sum_k sigma_k d eps_k / d e_i, sigma = E eps (normal) or G eps (shear)
     auto grad = [&](const auto& ai, int i) -> V3T {
-      if (!P.shear) return E * ((eps[0] * ai) * Fx + (eps[1] * b[i]) * Fy + (eps[2] * c[i]) * Fz);
-      return G * (eps[3] * (ai * Fy + b[i] * Fx) + eps[4] * (ai * Fz + c[i] * Fx) + eps[5] * (b[i] * Fz + c[i] * Fy));
+      V3T g = V3T::Zero();
+      if (P.k0 == 0) g += E * ((eps[0] * ai) * Fx + (eps[1] * b[i]) * Fy + (eps[2] * c[i]) * Fz);
+      if (P.k1 == 6) g += G * (eps[3] * (ai * Fy + b[i] * Fx) + eps[4] * (ai * Fz + c[i] * Fx) + eps[5] * (b[i] * Fz + c[i] * Fy));
+      return g;
     };
     for (int i = 0; i < 8; ++i) {
       const bool sec = i == 2 || i == 3 || i == 6 || i == 7;
@@ -188,10 +195,9 @@ void AncfBeam3D::elastic(const LocalState& s, double E, double G, double w, doub
     double eps[6];
     strains(Fx, Fy, Fz, eps);
     const double W = V * P.w;
-    const int k0 = P.shear ? 3 : 0;
-    const double mod = P.shear ? G : E;
-    VecX* Qk = P.shear ? QS : QN;
-    for (int k = k0; k < k0 + 3; ++k) {
+    for (int k = P.k0; k < P.k1; ++k) {
+      const double mod = k < 3 ? E : G;
+      VecX* Qk = k < 3 ? QN : QS;
       Eigen::Matrix<double, 1, kN> B;
       Vec8 p1, p2;  // d eps_k / d e_i = p1_i U + p2_i V
       const V3 *U, *Vv;
@@ -252,9 +258,7 @@ double AncfBeam3D::elasticEnergy(const LocalState& s, double E, double G, double
     b[6] = c[7] = P.xi;
     double eps[6];
     strains(V3(X * a), V3(X * b), V3(X * c), eps);
-    const int k0 = P.shear ? 3 : 0;
-    const double mod = P.shear ? G : E;
-    for (int k = k0; k < k0 + 3; ++k) U += 0.5 * mod * L_ * w * h * P.w * eps[k] * eps[k];
+    for (int k = P.k0; k < P.k1; ++k) U += 0.5 * (k < 3 ? E : G) * L_ * w * h * P.w * eps[k] * eps[k];
   }
   return U;
 }

@@ -89,7 +89,7 @@ class AncfBeam3D : public KernelElement<AncfBeam3D> {
   /// weight summing to 1 over the points of one strain group.
   struct Point {
     double xi, eta, zeta, w;
-    bool shear;  ///< true: the shear strains are evaluated here; false: the normal strains
+    int k0, k1;  ///< the Voigt strains k0 <= k < k1 evaluated here: 0..3 normal, 3..6 shear, 0..6 both
   };
   /// Elastic force per unit E of the normal strains (QN) and per unit G of the shear strains
   /// (QS), optionally the stiffness -dQ/de of E QN + G QS (K, with the moduli E, G), and the

@@ -79,12 +79,15 @@ Eigen::Matrix3d rotation(double a, double b, double c) {
 
 // Every derivative at a deformed state (a rotated rest state plus 5% noise on all 24
 // coordinates): dQ/dq analytic vs AD (1e-10) and vs central FD; -dU/dq vs Q; dQ/dp, dM/dp for
-// E, nu, density, width, height (or side) analytic vs AD and vs central FD in p.
+// E, nu, density, width, height (or side) analytic vs AD and vs central FD in p; also with
+// separate Gauss rules for the two strain groups (the constructor's option).
 TEST(AncfBeam3D, DerivativesMatchFiniteDifferencesAndAD) {
-  for (bool square : {false, true}) {
-    SCOPED_TRACE(square ? "square section" : "width x height");
+  for (int rule = 0; rule < 3; ++rule) {
+    const bool square = rule == 1;  // rule 2: separate Gauss rules for the normal and shear strains
+    SCOPED_TRACE(rule == 0 ? "width x height" : rule == 1 ? "square section" : "rules 4 / 2");
     const double L = 0.4;
-    AncfBeam3D e("b", {0, 1}, section(square), L);
+    AncfBeam3D e("b", {0, 1}, section(square), L, rule == 2 ? 4 : AncfBeam3D::kNormalPoints,
+                 rule == 2 ? 2 : AncfBeam3D::kShearPoints);
     std::srand(7);
     Local Lc(placed(L, rotation(0.3, -0.5, 0.8), {0.1, -0.2, 0.3}) + 0.05 * VecX::Random(24), params(square));
     const LocalState& s = Lc.s;
