@@ -17,11 +17,14 @@ namespace flexsens {
 
 class BilinearConstraint : public KernelConstraint<BilinearConstraint> {
  public:
-  /// N, W: 3 x (3 nodes.size()); a0, b0: constant parts (space-fixed vectors) [m].
+  /// N, W: 3 x (local dofs: 3 nodes.size(), or 12 nodes.size() with the ancf_beam's
+  /// `gradients` = 3); a0, b0: constant parts (space-fixed vectors) [m].
   BilinearConstraint(std::string name, std::string kind, std::vector<int> nodes, MatX N, Eigen::Vector3d a0,
-                     MatX W, Eigen::Vector3d b0, double c0)
+                     MatX W, Eigen::Vector3d b0, double c0, int gradients = 0)
       : KernelConstraint(std::move(name), std::move(nodes)), kind_(std::move(kind)), N_(std::move(N)),
-        W_(std::move(W)), a0_(a0), b0_(b0), c0_(c0), H_(N_.transpose() * W_ + W_.transpose() * N_) {}
+        W_(std::move(W)), a0_(a0), b0_(b0), c0_(c0), H_(N_.transpose() * W_ + W_.transpose() * N_),
+        gradients_(gradients) {}
+  int gradients() const override { return gradients_; }
   std::string kind() const override { return kind_; }
   int rows() const override { return 1; }
   void jacobian(const LocalState& s, MatX& J) const override;
@@ -53,6 +56,7 @@ class BilinearConstraint : public KernelConstraint<BilinearConstraint> {
   Eigen::Vector3d a0_, b0_;
   double c0_;
   MatX H_;
+  int gradients_;
 };
 
 // Instantiated once, in the .cpp (its kernel templates are not visible elsewhere).

@@ -17,7 +17,7 @@ class SelectedRows : public Constraint {
 
   std::string kind() const override { return inner_->kind(); }
   int rows() const override { return static_cast<int>(keep_.size()); }
-  bool usesSlopes() const override { return inner_->usesSlopes(); }
+  int gradients() const override { return inner_->gradients(); }
   void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override { inner_->hessian(s, keep_[r], H); }

@@ -121,7 +121,7 @@ template <class T>
 VecT<T> AncfCable::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
                           const VecT<T>& props) const {
   using std::sqrt;
-  if (s.dim != dim_ || !s.slopes) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
+  if (s.dim != dim_ || s.gradients != 1) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
   const int d = dim_;
   const T E = props[0];
   const T EA = E * sec_->areaOf(props[2]), EI = E * sec_->inertiaOf(props[3]);
@@ -275,7 +275,7 @@ void AncfCable::elasticD(const LocalState& s, double cA, double cB, VecX& QA, Ve
 }
 
 void AncfCable::elastic(const LocalState& s, double cA, double cB, VecX& QA, VecX& QB, MatX* KA, MatX* KB) const {
-  if (s.dim != dim_ || !s.slopes) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
+  if (s.dim != dim_ || s.gradients != 1) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
   if (dim_ == 2)
     elasticD<2>(s, cA, cB, QA, QB, KA, KB);
   else
@@ -316,7 +316,7 @@ bool AncfCable::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& 
 }
 
 double AncfCable::potential(const LocalState& s) const {
-  if (s.dim != dim_ || !s.slopes) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
+  if (s.dim != dim_ || s.gradients != 1) throw std::invalid_argument("ancf_cable " + name() + ": needs positions and slopes of dim " + std::to_string(dim_));
   const int d = dim_;
   const double EA = sec_->EA(*s.p), EI = sec_->EI(*s.p);
   double U = 0.0;

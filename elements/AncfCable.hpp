@@ -48,7 +48,7 @@ class AncfCable : public KernelElement<AncfCable> {
   /// pendulum it spoils convergence (bench/ancf_pendulum), so 2 is an option, not the default.
   static constexpr int kAxialPoints = 3, kBendingPoints = 3;
   std::string kind() const override { return "ancf_cable"; }
-  bool usesSlopes() const override { return true; }
+  int gradients() const override { return 1; }
   /// The hand-coded force (fixed-size kernels); forceT is its value template, for AD.
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;

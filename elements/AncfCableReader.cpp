@@ -35,6 +35,12 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
   for (size_t j = 0; j < ids.size(); ++j) {
     Node& nd = m.nodes[ids[j]];
     ctx.slopeUsers.insert(ids[j]);
+    if (nd.hasSlope() && nd.gradients(d) != 1) {
+      const auto given = ctx.givenSlopes.find(ids[j]);
+      r.fail(given != ctx.givenSlopes.end() ? given->second.node : nodeKey(j),
+             given != ctx.givenSlopes.end() ? given->second.path : nodePath(j),
+             "node '" + nd.name + "' carries the three gradients of an ancf_beam; an ancf_cable node has one slope");
+    }
     if (nd.hasSlope()) continue;  // given in the scene, or by an earlier ancf_cable
     VecX t = j == 0 ? dir[0] : (j + 1 == ids.size() ? dir[j - 1] : VecX(dir[j - 1] + dir[j]));
     if (!(t.norm() > 1e-12))
@@ -78,6 +84,7 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
 // Exact for any rigid motion of a planar chain (curved or not) and of a straight spatial one (a
 // spin about the chord moves no slope along it); a node between two elements takes the mean.
 // Clamped slopes have no rate; a slope rate is zero where its elements only translate.
+// The ancf_beam's gradients r_x, r_y, r_z: each turns with w; only r_x stretches with e.
 void deriveSlopeRates(SceneContext& ctx) {
   Model& m = ctx.m;
   const int d = m.dim;
@@ -94,9 +101,12 @@ void deriveSlopeRates(SceneContext& ctx) {
     for (int id : {ia, ib}) {
       const Node& nd = m.nodes[id];
       if (!nd.slopeFree()) continue;
-      Eigen::Vector3d r1 = Eigen::Vector3d::Zero();
-      r1.head(d) = nd.slope;
-      const VecX rate = (w.cross(r1) + e * r1).head(d);
+      VecX rate(nd.slope.size());
+      for (int g = 0; g < nd.gradients(d); ++g) {
+        Eigen::Vector3d r1 = Eigen::Vector3d::Zero();
+        r1.head(d) = nd.slope.segment(g * d, d);
+        rate.segment(g * d, d) = (w.cross(r1) + (g == 0 ? e : 0.0) * r1).head(d);
+      }
       auto it = sum.find(id);
       if (it == sum.end())
         sum[id] = {rate, 1};

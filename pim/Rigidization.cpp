@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "constraints/Bilinear.hpp"
 #include "constraints/Distance.hpp"
 #include "constraints/KernelConstraintAD.hpp"
 
@@ -9,7 +10,8 @@ namespace flexsens {
 
 AttachedPointConstraint::AttachedPointConstraint(std::string name, std::vector<int> nodes,
                                                  VecX coefficients, int dim, bool slope)
-    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim), slope_(slope) {
+    : KernelConstraint(std::move(name), std::move(nodes)), c_(std::move(coefficients)), dim_(dim), slope_(slope),
+      gradients_(slope ? 1 : 0) {
   const int k = static_cast<int>(c_.size());
   const int w = slope ? 2 * dim : dim;  // local coordinates per node
   const MatX I = MatX::Identity(dim, dim);
@@ -37,6 +39,62 @@ void AttachedPointConstraint::jacobian(const LocalState&, MatX& J) const { J = J
 void AttachedPointConstraint::hessian(const LocalState&, int, MatX& H) const {
   H.setZero(J_.cols(), J_.cols());
 }
+
+namespace {
+
+/// An ancf_beam body (every node with r_x, r_y, r_z): its frame is the gradient triad of the
+/// first node A, g_j = (r_x, r_y, r_z)_A, kept rigid by its metric, g_i . g_j = G_ij (6
+/// quadratic BilinearConstraints); every other point and every other gradient keeps its
+/// coordinates in that frame, c = G^-1 J_A^T (r_i - r_A) or G^-1 J_A^T g (linear:
+/// r_i - r_A - sum_j c_j g_j, g - sum_j c_j g_j). A straight beam's nodes alone would span a
+/// line; the triad spans space at any shape. Rows among fixed coordinates only are left out
+/// (a clamped A: its frame; with it every fixed target). Local coordinates: 12 per node.
+void rigidizeBeamBody(Rigidization& R, const std::string& name, const std::vector<int>& nodes, const Model& m,
+                      const MatX& X, const std::string& where) {
+  const int w = 12;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Node& A = m.nodes[nodes[0]];
+  const Eigen::Matrix3d JA = Eigen::Map<const Eigen::Matrix3d>(A.slope.data());
+  const Eigen::Matrix3d G = JA.transpose() * JA;
+  const Eigen::LDLT<Eigen::Matrix3d> metric(G);
+  if (!(std::abs(JA.determinant()) > 1e-9))
+    throw InputError(where + ": the gradients of node '" + A.name + "' of '" + name + "' do not span space");
+  const bool frameFixed = !A.slopeFree();
+  if (!frameFixed)
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        MatX Si = MatX::Zero(3, w), Sj = MatX::Zero(3, w);
+        Si.block(0, 3 + 3 * i, 3, 3) = I;
+        Sj.block(0, 3 + 3 * j, 3, 3) = I;
+        R.constraints.push_back(std::make_unique<BilinearConstraint>(
+            name + ".rigid.frame(" + "xyz"[i] + "," + "xyz"[j] + ")", "rigid_frame", std::vector<int>{nodes[0]}, Si,
+            Eigen::Vector3d::Zero(), Sj, Eigen::Vector3d::Zero(), G(i, j), 3));
+      }
+  // target: local slot 0 (A) or 1 (node i); component 0 the position, 1 + g gradient g
+  auto attach = [&](size_t i, int comp, const Eigen::Vector3d& rel, const std::string& label) {
+    const Node& nd = m.nodes[nodes[i]];
+    const bool fixedTarget = comp == 0 ? (nd.ground && A.ground) : !nd.slopeFree();
+    if (fixedTarget && frameFixed) return;
+    const Eigen::Vector3d c = metric.solve(JA.transpose() * rel);
+    std::vector<int> local = {nodes[0]};
+    if (i > 0) local.push_back(nodes[i]);
+    const int slot = i > 0 ? 1 : 0;
+    MatX J = MatX::Zero(3, static_cast<int>(local.size()) * w);
+    J.block(0, slot * w + 3 * comp, 3, 3) += I;
+    if (comp == 0) J.block(0, 0, 3, 3) -= I;  // r_i - r_A
+    for (int j = 0; j < 3; ++j) J.block(0, 3 + 3 * j, 3, 3) -= c[j] * I;
+    R.constraints.push_back(std::make_unique<AttachedPointConstraint>(name + label, local, J, 3));
+  };
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const Node& nd = m.nodes[nodes[i]];
+    if (i > 0) attach(i, 0, X.col(nodes[i]) - X.col(nodes[0]), ".rigid.point(" + nd.name + ")");
+    if (i > 0)
+      for (int g = 0; g < 3; ++g)
+        attach(i, 1 + g, nd.slope.segment<3>(3 * g), ".rigid.gradient(" + nd.name + "," + "xyz"[g] + ")");
+  }
+}
+
+}  // namespace
 
 int Rigidization::rows() const {
   int r = 0;
@@ -81,6 +139,17 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   R.cloudDimension = static_cast<int>(basic.size()) - 1;
   for (int b : basic) R.basicPoints.push_back(nodes[b]);
   const auto ground = [&](int i) { return m.nodes[nodes[i]].ground; };
+  // ancf_beam bodies: every node carries r_x, r_y, r_z (a body mixing them with other nodes
+  // is not supported: its frame would be the gradients of some nodes only).
+  int beamNodes = 0;
+  for (int i : nodes) beamNodes += m.nodes[i].gradients(dim) == 3;
+  if (beamNodes == static_cast<int>(nodes.size())) {
+    rigidizeBeamBody(R, name, nodes, m, X, where);
+    return R;
+  }
+  if (beamNodes > 0)
+    throw InputError(where + ": '" + name + "' mixes ancf_beam nodes (three gradients) with other nodes; "
+                     "rigidizing such a body is not supported");
   // Distances among basic points (1, 3 or 6 quadratic constraints).
   for (size_t i = 0; i < basic.size(); ++i)
     for (size_t j = i + 1; j < basic.size(); ++j) {

@@ -5,6 +5,9 @@
 //   Lambda_i = r_i - r_A - sum_j c_ij e_j = C_i q   (linear, dim rows).
 // A node's free slope (ANCF) is a direction fixed in the body, with coordinates from G c = B^T r_i':
 //   Lambda_i' = r_i' - sum_j c_ij e_j               (linear, dim rows).
+// An ancf_beam body (nodes with r_x, r_y, r_z): the frame is the gradient triad of its first
+// node, kept rigid by its metric (6 quadratic rows); every other point and gradient keeps its
+// coordinates in it (linear rows; see rigidizeBeamBody in the .cpp).
 // Used by the PIM for initially undeformed flexible bodies, and for rigid models of bodies.
 #pragma once
 
@@ -27,11 +30,12 @@ class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint>
                           bool slope = false);
   /// Any linear point relation J x = 0 over the nodes' positions (dim rows, position-only
   /// nodes); e.g. a planar body's point r_P = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A).
-  AttachedPointConstraint(std::string name, std::vector<int> nodes, MatX J)
-      : KernelConstraint(std::move(name), std::move(nodes)), dim_(static_cast<int>(J.rows())), slope_(false),
-        J_(std::move(J)) {}
+  /// With `gradients` = 3 (ancf_beam nodes) J acts on positions and gradients, 12 per node.
+  AttachedPointConstraint(std::string name, std::vector<int> nodes, MatX J, int gradients = 0)
+      : KernelConstraint(std::move(name), std::move(nodes)), dim_(static_cast<int>(J.rows())),
+        slope_(gradients > 0), gradients_(gradients), J_(std::move(J)) {}
   std::string kind() const override { return slope_ ? "attached_slope" : "attached_point"; }
-  bool usesSlopes() const override { return slope_; }
+  int gradients() const override { return gradients_; }
   int rows() const override { return dim_; }
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
@@ -48,6 +52,7 @@ class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint>
   VecX c_;
   int dim_;
   bool slope_;
+  int gradients_;
   MatX J_;  ///< constant Jacobian, dim x (coordinates per node)*(k+2)
 };
 

@@ -41,7 +41,7 @@ struct Local {
       if (dim == 3) g[2] = 1.3;
     }
     s.dim = dim;
-    s.slopes = true;
+    s.gradients = 1;
     s.v = VecX::Zero(x.size());
     s.x = std::move(x);
     s.p = &p;

@@ -13,9 +13,9 @@ std::vector<int> iota(int start, int count) {
 Assembler::Assembler(const Model& model, const ConstraintList* constraints, Derivatives derivatives)
     : model_(model), cons_(constraints ? *constraints : model.constraints), derivatives_(derivatives) {
   for (int g : model_.gravityParam) gravityBound_ = gravityBound_ || g >= 0;
-  for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes(), e->usesSlopes()));
+  for (const auto& e : model_.elements) elemDofs_.push_back(dofMap(e->nodes(), e->gradients()));
   for (const auto& c : cons_) {
-    consDofs_.push_back(dofMap(c->nodes(), c->usesSlopes()));
+    consDofs_.push_back(dofMap(c->nodes(), c->gradients()));
     consRow_.push_back(m_);
     m_ += c->rows();
     rheonomic_ = rheonomic_ || c->rheonomic();
@@ -32,23 +32,25 @@ std::string Assembler::rowLabel(int r) const {
   return "row " + std::to_string(r);
 }
 
-std::vector<int> Assembler::dofMap(const std::vector<int>& nodes, bool slopes) const {
+std::vector<int> Assembler::dofMap(const std::vector<int>& nodes, int gradients) const {
   std::vector<int> map;
-  const int perNode = slopes ? 2 * model_.dim : model_.dim;
+  const int perNode = (1 + gradients) * model_.dim;
   for (int nd : nodes) {
-    if (slopes && !model_.nodes[nd].hasSlope())
-      throw std::invalid_argument("node " + model_.nodes[nd].name + " carries no slope");
+    const Node& N = model_.nodes[nd];
+    if (gradients && N.gradients(model_.dim) != gradients)
+      throw std::invalid_argument("node " + N.name + " carries " + std::to_string(N.gradients(model_.dim)) +
+                                  " position gradient(s); its element needs " + std::to_string(gradients));
     for (int c = 0; c < perNode; ++c) map.push_back(model_.dof(nd, c));
   }
   return map;
 }
 
 LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
-                                 const VecX& p, bool slopes) const {
+                                 const VecX& p, int gradients) const {
   const int d = model_.dim;
   LocalState s;
   s.dim = d;
-  s.slopes = slopes;
+  s.gradients = gradients;
   const int w = s.nodeSize();
   s.x.resize(w * nodes.size());
   s.v.setZero(w * nodes.size());
@@ -60,12 +62,13 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
       s.x.segment(w * a, d) = q.segment(nd.firstDof, d);
       if (v.size()) s.v.segment(w * a, d) = v.segment(nd.firstDof, d);
     }
-    if (!slopes) continue;
+    if (!gradients) continue;
+    const int ng = gradients * d;
     if (nd.slopeDof < 0) {
-      s.x.segment(w * a + d, d) = nd.slope;  // clamped
+      s.x.segment(w * a + d, ng) = nd.slope;  // clamped
     } else {
-      s.x.segment(w * a + d, d) = q.segment(nd.slopeDof, d);
-      if (v.size()) s.v.segment(w * a + d, d) = v.segment(nd.slopeDof, d);
+      s.x.segment(w * a + d, ng) = q.segment(nd.slopeDof, ng);
+      if (v.size()) s.v.segment(w * a + d, ng) = v.segment(nd.slopeDof, ng);
     }
   }
   s.p = &p;
@@ -411,8 +414,8 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
     for (size_t e = 0; e < model_.elements.size(); ++e) {
       const auto& el = *model_.elements[e];
       if (!el.mass(localState(el, q, v, p), dM)) continue;
-      // A uniform translation e_c: 1 on every node's position component c, 0 on slopes.
-      const int w = el.usesSlopes() ? 2 * model_.dim : model_.dim;
+      // A uniform translation e_c: 1 on every node's position component c, 0 on gradients.
+      const int w = (1 + el.gradients()) * model_.dim;
       VecX unit = VecX::Zero(dM.cols());
       for (int a = 0; a < unit.size() / w; ++a) unit[a * w + c] = 1.0;
       const VecX g = loadFactor_ * (dM * unit);

@@ -119,19 +119,19 @@ class Assembler {
   /// Local state of a node list (ground nodes included at their fixed positions; with
   /// `slopes`, each node's slope after its position, a clamped slope at its fixed value).
   LocalState localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
-                        const VecX& p, bool slopes = false) const;
+                        const VecX& p, int gradients = 0) const;
   LocalState localState(const Element& e, const VecX& q, const VecX& v, const VecX& p) const {
-    return localState(e.nodes(), q, v, p, e.usesSlopes());
+    return localState(e.nodes(), q, v, p, e.gradients());
   }
   LocalState localState(const Constraint& c, const VecX& q, const VecX& v, const VecX& p) const {
-    return localState(c.nodes(), q, v, p, c.usesSlopes());
+    return localState(c.nodes(), q, v, p, c.gradients());
   }
   const std::vector<int>& elementDofs(size_t e) const { return elemDofs_[e]; }
   const std::vector<int>& constraintDofs(size_t c) const { return consDofs_[c]; }
   int constraintRow(size_t c) const { return consRow_[c]; }
 
  private:
-  std::vector<int> dofMap(const std::vector<int>& nodes, bool slopes) const;
+  std::vector<int> dofMap(const std::vector<int>& nodes, int gradients) const;
   /// An m-vector with each driver's rows pick(c, Phi_t, Phi_qt, g, g_q) at (q, v), zero elsewhere.
   template <class Pick>
   VecX driverRows(const VecX& q, const VecX& v, const VecX& p, Pick pick) const;

@@ -1,6 +1,6 @@
 // The one element interface. An element couples a few nodes; it sees only its local
-// coordinates (dim values per node, or 2 dim with the slopes of ANCF nodes when the element
-// usesSlopes(); fixed values included with zero velocity) and the design-parameter vector p. It never sees the integrator or the scene file.
+// coordinates (dim values per node, then the node's position gradients when the element has
+// gradients(): the ANCF cable's slope, the ANCF beam's r_x, r_y, r_z; fixed values included with zero velocity) and the design-parameter vector p. It never sees the integrator or the scene file.
 #pragma once
 
 #include <stdexcept>
@@ -21,14 +21,16 @@ template <class T> using MatT = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>
 /// Local view of the state of the nodes an element or constraint touches.
 struct LocalState {
   int dim = 2;                 ///< position coordinates per node (2 planar, 3 spatial)
-  bool slopes = false;         ///< each node also carries its slope r_s (dim more entries)
-  VecX x;                      ///< positions (then slopes [-] if `slopes`), node after node [m]
+  /// Position-gradient vectors each node carries after its position (dim entries each): 0,
+  /// 1 (the ANCF cable's slope r_s) or 3 (the full ANCF beam's r_x, r_y, r_z).
+  int gradients = 0;
+  VecX x;                      ///< positions (then gradients [-]), node after node [m]
   VecX v;                      ///< velocities [m/s]
   const VecX* p = nullptr;     ///< design parameters (values of all parameters)
   const VecX* gravity = nullptr; ///< gravity vector, dim entries [m/s^2]
   double t = 0.0;              ///< time [s]: read by loads and drivers that vary in time
   double value(const Quantity& s) const { return s.value(*p); }
-  int nodeSize() const { return slopes ? 2 * dim : dim; }  ///< local coordinates per node
+  int nodeSize() const { return (1 + gradients) * dim; }  ///< local coordinates per node
 };
 
 class Element {
@@ -39,9 +41,11 @@ class Element {
   const std::string& name() const { return name_; }
   const std::vector<int>& nodes() const { return nodes_; }
   virtual std::string kind() const = 0;
-  /// True: the local coordinates of each node are its position and its slope (ANCF; every
-  /// node must carry a slope). False: positions only (slopes, if any, are not seen).
-  virtual bool usesSlopes() const { return false; }
+  /// Position-gradient vectors per node in the local coordinates (LocalState::gradients): 0
+  /// positions only (gradients, if any, are not seen), 1 the ANCF cable's slope, 3 the full
+  /// ANCF beam's r_x, r_y, r_z; every node must then carry exactly that many.
+  virtual int gradients() const { return 0; }
+  bool usesSlopes() const { return gradients() > 0; }
 
   /// Constant (configuration-independent) local mass matrix [kg]; false if massless.
   virtual bool mass(const LocalState& s, MatX& M) const { (void)s; (void)M; return false; }
@@ -95,8 +99,9 @@ class Constraint {
   const std::vector<int>& nodes() const { return nodes_; }
   virtual std::string kind() const = 0;
   virtual int rows() const = 0;
-  /// As Element::usesSlopes: local coordinates are positions and slopes node after node.
-  virtual bool usesSlopes() const { return false; }
+  /// As Element::gradients: local coordinates are positions and gradients node after node.
+  virtual int gradients() const { return 0; }
+  bool usesSlopes() const { return gradients() > 0; }
 
   virtual void phi(const LocalState& s, VecX& out) const = 0;
   /// Phi_q: rows() x local dofs.

@@ -11,7 +11,7 @@ void Model::finalize() {
     nd.firstDof = nd.ground ? -1 : n;
     if (!nd.ground) n += dim;
     nd.slopeDof = nd.slopeFree() ? n : -1;
-    if (nd.slopeFree()) n += dim;
+    if (nd.slopeFree()) n += static_cast<int>(nd.slope.size());
     coordinateNode.resize(n, k);
   }
   m = 0;
@@ -34,7 +34,7 @@ VecX Model::initialPositions() const {
   VecX q(n);
   for (const auto& nd : nodes) {
     if (!nd.ground) q.segment(nd.firstDof, dim) = nd.position;
-    if (nd.slopeDof >= 0) q.segment(nd.slopeDof, dim) = nd.slope;
+    if (nd.slopeDof >= 0) q.segment(nd.slopeDof, nd.slope.size()) = nd.slope;
   }
   return q;
 }
@@ -44,7 +44,7 @@ VecX Model::initialVelocities() const {
   for (const auto& nd : nodes) {
     if (!nd.ground) v.segment(nd.firstDof, dim) = nd.velocity;
     if (nd.slopeDof >= 0)
-      v.segment(nd.slopeDof, dim) = nd.slopeRate.size() ? nd.slopeRate : VecX(VecX::Zero(dim));
+      v.segment(nd.slopeDof, nd.slope.size()) = nd.slopeRate.size() ? nd.slopeRate : VecX(VecX::Zero(nd.slope.size()));
   }
   return v;
 }
@@ -54,7 +54,10 @@ std::string Model::coordinateLabel(int i) const {
   const Node& nd = nodes[coordinateNode[i]];
   if (!nd.ground && i >= nd.firstDof && i < nd.firstDof + dim)
     return std::string(1, axisName(i - nd.firstDof)) + "(" + nd.name + ")";
-  return std::string(1, axisName(i - nd.slopeDof)) + "'(" + nd.name + ")";
+  // the slope's x' = dx/ds; a full gradient's x_x, x_y, x_z = dx/dX_j (j the reference axis)
+  const int k = i - nd.slopeDof, c = k % dim;
+  if (nd.gradients(dim) == 1) return std::string(1, axisName(c)) + "'(" + nd.name + ")";
+  return std::string(1, axisName(c)) + "_" + "xyz"[k / dim] + "(" + nd.name + ")";
 }
 
 }  // namespace flexsens

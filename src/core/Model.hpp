@@ -10,21 +10,27 @@
 
 namespace flexsens {
 
-/// A node carries its position (dim coordinates) and, on ANCF elements, its slope: the
-/// position gradient r_s = dr/ds along the element's reference arc length s (dim more
-/// coordinates, dimensionless; unit length in the rest state). A ground node's position is
-/// fixed; its slope is free (a pin) unless the node is clamped (slope fixed too).
+/// A node carries its position (dim coordinates) and, on ANCF elements, its position
+/// gradients (dimensionless, dim coordinates each), stored one after the other in `slope`:
+///  - on ancf_cable, one: the slope r_s = dr/ds along the reference arc length s (unit length
+///    in the rest state);
+///  - on ancf_beam (3D), three: r_x, r_y, r_z, the columns of the position gradient dr/dX
+///    with respect to the element's reference coordinates X = (axial, section y, section z).
+/// A ground node's position is fixed; its gradients are free (a pin) unless the node is
+/// clamped (all of its gradients fixed too).
 struct Node {
   std::string name;
   VecX position;       ///< initial (and, for ground nodes, permanent) position, dim entries [m]
   VecX velocity;       ///< initial velocity, dim entries [m/s]
   bool ground = false; ///< the position carries no coordinates
   int firstDof = -1;   ///< index of the node's first position coordinate in q, or -1 for ground
-  VecX slope;          ///< initial (clamped: permanent) slope r_s, dim entries [-]; empty: none
-  VecX slopeRate;      ///< initial d(r_s)/dt, dim entries [1/s] (empty: zero)
-  bool clamped = false; ///< the slope is fixed (no slope coordinates); only with a slope
-  int slopeDof = -1;   ///< index of the node's first slope coordinate in q, or -1
+  VecX slope;          ///< initial (clamped: permanent) gradients, gradients * dim entries [-]; empty: none
+  VecX slopeRate;      ///< their initial rates, as many entries [1/s] (empty: zero)
+  bool clamped = false; ///< the gradients are fixed (no gradient coordinates); only with gradients
+  int slopeDof = -1;   ///< index of the node's first gradient coordinate in q, or -1
   bool hasSlope() const { return slope.size() > 0; }
+  /// Number of gradient vectors the node carries: 0, 1 (cable slope) or 3 (r_x, r_y, r_z).
+  int gradients(int dim) const { return static_cast<int>(slope.size()) / dim; }
   bool slopeFree() const { return hasSlope() && !clamped; }
 };
 
@@ -72,7 +78,8 @@ struct Model {
   /// Axis letter of component c of a node ('x', 'y' or 'z').
   char axisName(int c) const { return dim == 3 ? "xyz"[c] : plane[c]; }
   /// Global coordinate index of component c of node i, or -1 where it is fixed: c < dim the
-  /// position, dim <= c < 2 dim the slope (ANCF nodes).
+  /// position, dim <= c < dim + slope.size() the gradients (ANCF nodes; dim + c' the slope's
+  /// or r_x's component c', 2 dim + c' r_y's, 3 dim + c' r_z's).
   int dof(int node, int c) const {
     const Node& nd = nodes[node];
     if (c < dim) return nd.ground ? -1 : nd.firstDof + c;

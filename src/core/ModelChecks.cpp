@@ -77,7 +77,7 @@ UnrestrainedMassless unrestrainedMasslessDirection(const Model& m) {
       const Node& N = m.nodes[nd];
       const int c = z[idx[k]];
       const bool owns = (N.firstDof >= 0 && c >= N.firstDof && c < N.firstDof + m.dim) ||
-                        (N.slopeDof >= 0 && c >= N.slopeDof && c < N.slopeDof + m.dim);
+                        (N.slopeDof >= 0 && c >= N.slopeDof && c < N.slopeDof + N.slope.size());
       if (owns && std::find(out.nodes.begin(), out.nodes.end(), int(nd)) == out.nodes.end())
         out.nodes.push_back(static_cast<int>(nd));
     }

@@ -176,7 +176,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
     dq.push_back(vectorArray("dq/d" + m.parameters[k].name));
     dv.push_back(vectorArray("dv/d" + m.parameters[k].name));
   }
-  // Nodes say what they carry: when some carry a slope (ANCF), the slope r' = dr/ds [-], its
+  // Nodes say what they carry: when some carry a slope (ANCF; an ancf_beam node: its r_x), the slope r' = dr/ds [-], its
   // rate [1/s] and its sensitivities are point-data vectors too (zero on nodes without one).
   bool slopes = false;
   for (const Node& nd : m.nodes) slopes = slopes || nd.hasSlope();
@@ -227,7 +227,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(pts);
   vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam
   id->SetName("element_id");
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
@@ -242,7 +242,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       vtkIdType ids[2] = {l[0], l[1]};
       grid->InsertNextCell(VTK_LINE, 2, ids);
       kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3
-                                                  : k == "rigid_body" ? 4 : k == "ancf_cable" ? 6 : 0);
+                                                  : k == "rigid_body" ? 4 : k == "ancf_cable" ? 6 : k == "ancf_beam" ? 7 : 0);
       id->InsertNextValue(static_cast<int>(e));
     }
   }

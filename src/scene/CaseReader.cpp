@@ -9,9 +9,20 @@
 namespace flexsens {
 
 /// A node SDOF's or output's component: an axis, or for a node that carries a slope (ANCF) an axis with a
-/// prime, the slope's component ("x'" = dx/ds); returned as in Model::dof.
+/// prime, the slope's component ("x'" = dx/ds; on an ancf_beam node r_x's), or for an ancf_beam
+/// node an axis, '_' and a reference axis, a gradient's component ("z_y" = dz/dy, of r_y);
+/// returned as in Model::dof.
 int nodeComponent(const SceneContext& ctx, int nd, const YAML::Node& n, const std::string& path) {
   const std::string t = ctx.r.text(n, path);
+  if (t.size() == 3 && t[1] == '_' && ctx.m.dim == 3) {
+    const int c = axisIndex(ctx.m, t.substr(0, 1)), j = axisIndex(ctx.m, t.substr(2, 1));
+    if (c >= 0 && j >= 0) {
+      if (ctx.m.nodes[nd].gradients(3) != 3)
+        ctx.r.fail(n, path, "node '" + ctx.m.nodes[nd].name + "' carries no gradients r_x, r_y, r_z (it is on no ancf_beam); "
+                            "expected an axis" + std::string(ctx.m.nodes[nd].hasSlope() ? " or a slope component x'" : ""));
+      return 3 + 3 * j + c;
+    }
+  }
   const int c = t.size() == 2 && t[1] == '\'' ? axisIndex(ctx.m, t.substr(0, 1)) : -1;
   if (c < 0) return component(ctx, n, path);
   if (!ctx.m.nodes[nd].hasSlope())
@@ -82,8 +93,12 @@ std::unique_ptr<Sdof> readBodySdof(SceneContext& ctx, const YAML::Node& z, const
   return s;
 }
 
-std::string componentName(const Model& m, int c) {
-  return c < m.dim ? std::string(1, m.axisName(c)) : std::string(1, m.axisName(c - m.dim)) + "'";
+/// As Model::coordinateLabel: "x", the slope's "x'", an ancf_beam gradient's "x_y" (dx/dy).
+std::string componentName(const Model& m, int nd, int c) {
+  if (c < m.dim) return std::string(1, m.axisName(c));
+  const int k = c - m.dim;
+  if (m.nodes[nd].gradients(m.dim) != 3) return std::string(1, m.axisName(k)) + "'";
+  return std::string(1, m.axisName(k % 3)) + "_" + "xyz"[k / 3];
 }
 
 std::unique_ptr<Sdof> readSdof(SceneContext& ctx, const YAML::Node& z, const std::string& path) {
@@ -123,7 +138,7 @@ std::unique_ptr<Sdof> readSdof(SceneContext& ctx, const YAML::Node& z, const std
       const int nd = ctx.node(t[1], at(cp, j) + "[1]");
       const int c = nodeComponent(ctx, nd, t[2], at(cp, j) + "[2]");
       s->terms.push_back({nd, c, coef});
-      s->name += (j ? " + " : "") + jsonish(coef) + " " + componentName(m, c) + "(" + m.nodes[nd].name + ")";
+      s->name += (j ? " + " : "") + jsonish(coef) + " " + componentName(m, nd, c) + "(" + m.nodes[nd].name + ")";
     }
     out = std::move(s);
   } else {
@@ -131,7 +146,7 @@ std::unique_ptr<Sdof> readSdof(SceneContext& ctx, const YAML::Node& z, const std
     const int nd = ctx.node(r.require(z, "node", path), path + ".node");
     const int c = nodeComponent(ctx, nd, r.require(z, "component", path), path + ".component");
     s->terms.push_back({nd, c, 1.0});
-    s->name = componentName(m, c) + "(" + m.nodes[nd].name + ")";
+    s->name = componentName(m, nd, c) + "(" + m.nodes[nd].name + ")";
     out = std::move(s);
   }
   if (z["name"]) out->name = r.text(z["name"], path + ".name");

@@ -16,6 +16,7 @@ std::string KindTable::names() const {
 // the linker drops object files nothing references, registrations included.
 const KindTable& elementKinds() {
   static const KindTable t{{
+      {"ancf_beam", readAncfBeam},
       {"ancf_cable", readAncfCable},
       {"beam", readBeam},
       {"planar_rigid_body", readPlanarRigidBody},

@@ -31,6 +31,7 @@ void readPointForce(SceneContext&, const YAML::Node&, const std::string&, const 
 void readPointTorque(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPlanarRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readAncfCable(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readAncfBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 /// After the elements: the initial slope rates of free ANCF slopes from the nodes' velocities
 /// (elements/AncfCableReader.cpp).
 void deriveSlopeRates(SceneContext& ctx);

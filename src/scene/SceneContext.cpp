@@ -74,11 +74,11 @@ std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::strin
 void SceneContext::checkSlopes() const {
   for (const auto& [id, k] : givenSlopes)
     if (!slopeUsers.count(id))
-      r.fail(k.node, k.path, "node '" + m.nodes[id].name + "' is on no ancf_cable element, so it carries no slope; remove the slope");
+      r.fail(k.node, k.path, "node '" + m.nodes[id].name + "' is on no ANCF element (ancf_cable, ancf_beam), so it carries no slope or gradients; remove them");
   for (const auto& [id, k] : clamps)
     if (!slopeUsers.count(id))
       r.fail(k.node, k.path, "clamped fixes a node's slope, but node '" + m.nodes[id].name +
-                                 "' is on no ancf_cable element and has none (a positions-only beam is "
+                                 "' is on no ANCF element (ancf_cable, ancf_beam) and has none (a positions-only beam is "
                                  "clamped by a second ground node beside its end)");
 }
 

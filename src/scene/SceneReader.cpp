@@ -38,7 +38,7 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node nd = list[i];
     const std::string path = at("nodes", i);
-    r.allowKeys(nd, path, {"name", "position", "velocity", "ground", "slope", "clamped"});
+    r.allowKeys(nd, path, {"name", "position", "velocity", "ground", "slope", "gradients", "clamped"});
     Node node;
     node.name = r.text(r.require(nd, "name", path), path + ".name");
     if (ctx.hasNode(node.name)) r.fail(nd["name"], path + ".name", "duplicate node name '" + node.name + "'");
@@ -60,6 +60,23 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
       if (!(node.slope.norm() > 0)) r.fail(nd["slope"], path + ".slope", "expected a nonzero direction");
       node.slope.normalize();
       ctx.givenSlopes[id] = {nd["slope"], path + ".slope"};
+    }
+    // gradients (3D, ancf_beam): the initial r_x, r_y, r_z, a right-handed orthonormal frame.
+    if (nd["gradients"]) {
+      const std::string gp = path + ".gradients";
+      const YAML::Node gn = nd["gradients"];
+      if (dim != 3) r.fail(gn, gp, "gradients (r_x, r_y, r_z) belong to the spatial ancf_beam; a planar node takes slope");
+      if (nd["slope"]) r.fail(gn, gp, "give either slope (ancf_cable) or gradients (ancf_beam), not both");
+      r.requireList(gn, gp);
+      if (gn.size() != 3)
+        r.fail(gn, gp, "expected three vectors r_x, r_y, r_z (a right-handed orthonormal frame); got " +
+                           std::to_string(gn.size()));
+      Eigen::Matrix3d J;
+      for (int g = 0; g < 3; ++g) J.col(g) = r.vector(gn[g], at(gp, g), 3);
+      if (!((J.transpose() * J - Eigen::Matrix3d::Identity()).norm() < 1e-6 && J.determinant() > 0))
+        r.fail(gn, gp, "expected three vectors r_x, r_y, r_z forming a right-handed orthonormal frame");
+      node.slope = Eigen::Map<const VecX>(J.data(), 9);
+      ctx.givenSlopes[id] = {gn, gp};
     }
     if (nd["clamped"]) {
       node.clamped = r.boolean(nd["clamped"], path + ".clamped");

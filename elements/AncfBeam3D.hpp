@@ -1,0 +1,121 @@
+// Fully parameterized spatial ANCF beam, the 3243 element (Shabana & Yakoub 2001): two nodes,
+// each with its position r and the full position gradient (r_x, r_y, r_z) = dr/dX, 12
+// coordinates per node, no rotations. Reference coordinates X = (x, y, z): x in [0, L] along
+// the axis, y in [-w/2, w/2], z in [-h/2, h/2] across the rectangular section (width w along
+// the node's r_y, height h along r_z). With xi = x / L:
+//   r = N1 r_a + N2 r_x,a + (1 - xi)(y r_y,a + z r_z,a) + N3 r_b + N4 r_x,b + xi (y r_y,b + z r_z,b)
+// (N_i the cubic Hermite functions of the cable): cubic along the axis, linear across it, so
+// cross-sections stay plane (they may rotate, shear and stretch uniformly, but not warp).
+// Local coordinates e = (r_a, r_x,a, r_y,a, r_z,a, r_b, r_x,b, r_y,b, r_z,b), 24 entries.
+//
+// Rest shape: straight, of length L, with orthonormal nodal gradients (r_x along the chord);
+// then the rest gradient dr0/dX is a rotation and the Green-Lagrange strain in the beam's own
+// axes is E = (J^T J - I) / 2, J = dr/dX, whatever the rest orientation.
+//
+// Energy U = int_V W(E) dV, Gauss quadrature over the volume (2 x 2 across the section: exact
+// for the linear-in-(y, z) fields of small strains), St. Venant-Kirchhoff with this locking
+// remedy:
+//  - Poisson locking: the section can only stretch uniformly, so with the isotropic law
+//    (lambda > 0) the lateral contraction that varies across the section in bending is
+//    blocked and bending stiffens (by up to (1 - nu) / ((1 + nu)(1 - 2 nu)), 1.35 at
+//    nu = 0.3, with the contraction fully blocked). Remedy: the normal stresses are
+//    uncoupled, S_xx = E E_xx, S_yy = E E_yy, S_zz = E E_zz (the law at nu = 0 on the
+//    diagonal), while the shear keeps G = E / (2 (1 + nu)): bending gives EI exactly, shear and
+//    torsion the shear modulus of the material;
+//      W = E/2 (E_xx^2 + E_yy^2 + E_zz^2) + 2 G (E_xy^2 + E_xz^2 + E_yz^2).
+//  - Shear locking does not arise: r_x is quadratic along the axis, so the axis can follow the
+//    linear rotation of the sections (r_y, r_z) with zero transverse shear strain. The normal
+//    and the shear strains are both integrated at 3 Gauss points along the axis (the fewest
+//    with no zero-energy mode besides the 6 rigid motions; 2 for the shear strains would
+//    relieve nothing, measured, and leave two hourglass modes per element: a transverse bubble
+//    of the axis with its shear strain zero at both points, global along a chain).
+// Bending: the sections' rotation is linear, the curvature constant per element, so the
+// cantilever's tip deflection converges at O(h^2) (error 1 / (4 N^2), measured), to the value
+// with shear deformation, P L^3 / (3EI) + P L / (G A) (plane sections: shear coefficient 1).
+// Torsion: plane sections without warping give the torsion constant I_p = (w h^3 + h w^3) / 12
+// (the polar moment), not Saint-Venant's J (square: 0.1406 a^4 against a^4 / 6).
+//
+// Constant consistent mass rho int S^T S dV = rho (A M_N + (w^3 h / 12) M_Y + (w h^3 / 12) M_Z) (x) I_3
+// (A = w h, int y^2 dA = w^3 h / 12, int z^2 dA = w h^3 / 12; the shape integrals computed once).
+// Gravity Q_g = M (g on both positions, 0 on gradients): a uniform field is a translation.
+//
+// Design parameters: E, nu, density, width and height (or side). Units: E [Pa], density
+// [kg/m^3], width, height [m]; positions [m], gradients [-], forces [N] (on gradients [N m]).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "elements/KernelElement.hpp"
+
+namespace flexsens {
+
+/// Material and rectangular section of an ancf_beam; every entry bindable as a parameter.
+struct AncfBeamSection {
+  Quantity E;        ///< Young's modulus [Pa]
+  Quantity nu;       ///< Poisson's ratio [-] (enters only G = E / (2 (1 + nu)))
+  Quantity density;  ///< [kg/m^3]
+  Quantity width;    ///< along the nodes' r_y [m]
+  Quantity height;   ///< along the nodes' r_z [m]
+  Quantity side;     ///< square section: width = height = side [m]
+  bool square = false;
+  const Quantity& widthSource() const { return square ? side : width; }
+  const Quantity& heightSource() const { return square ? side : height; }
+  /// "E", "nu", "density", then "side" or "width", "height".
+  std::vector<std::pair<std::string, Quantity*>> properties();
+};
+
+class AncfBeam3D : public KernelElement<AncfBeam3D> {
+ public:
+  /// L: rest length [m] (> 0). Gauss points along the axis for the normal and for the shear
+  /// strains (2 x 2 across the section for both).
+  AncfBeam3D(std::string name, std::vector<int> nodes, std::shared_ptr<AncfBeamSection> section, double L,
+             int normalPoints = kNormalPoints, int shearPoints = kShearPoints);
+  static constexpr int kNormalPoints = 3, kShearPoints = 3;
+  std::string kind() const override { return "ancf_beam"; }
+  int gradients() const override { return 3; }
+  void force(const LocalState& s, VecX& Q) const override;
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
+  double length() const { return L_; }
+
+ private:
+  friend class KernelElement<AncfBeam3D>;
+  /// A quadrature point: (xi, eta, zeta) in [0, 1] x [-1/2, 1/2]^2 (y = w eta, z = h zeta),
+  /// weight summing to 1 over the points of one strain group.
+  struct Point {
+    double xi, eta, zeta, w;
+    int k0, k1;  ///< the Voigt strains k0 <= k < k1 evaluated here: 0..3 normal, 3..6 shear, 0..6 both
+  };
+  /// Elastic force per unit E of the normal strains (QN) and per unit G of the shear strains
+  /// (QS), optionally the stiffness -dQ/de of E QN + G QS (K, with the moduli E, G), and the
+  /// derivative of E QN + G QS along the section change (dw, dh) (dQg, optional).
+  void elastic(const LocalState& s, double E, double G, double w, double h, VecX* QN, VecX* QS, MatX* K,
+               double dw, double dh, VecX* dQg) const;
+  double elasticEnergy(const LocalState& s, double E, double G, double w, double h) const;
+  MatX massMatrix(double rho, double w, double h) const;
+  VecX gravityLoad(const LocalState& s, const MatX& M) const;
+  void checkState(const LocalState& s) const;
+
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&sec_->E, &sec_->nu, &sec_->density, &sec_->widthSource(), &sec_->heightSource()};
+  }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  static constexpr bool hasMassKernel = true;
+  template <class T>
+  MatT<T> massT(const LocalState& s, const VecT<T>& props) const;
+
+  std::shared_ptr<AncfBeamSection> sec_;
+  double L_;
+  std::vector<Point> pts_;
+  /// Shape integrals L int f_i f_j dxi of the axial functions (M_N, slots 0, 1, 4, 5) and of
+  /// the section factors (M_Y: slots 2, 6 with 1 - xi, xi; M_Z: slots 3, 7) [m].
+  Eigen::Matrix<double, 8, 8> mN_, mY_, mZ_;
+};
+
+}  // namespace flexsens
