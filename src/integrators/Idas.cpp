@@ -58,25 +58,40 @@ const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, doub
   return acc.finish();
 }
 
+void gglForceJacobians(const Assembler& as, const VecX& p, const VecX& y, SparseAccumulator& kq,
+                       SparseAccumulator& kv) {
+  const int n = as.n();
+  const VecX q = y.segment(0, n), v = y.segment(n, n);
+  kq.begin(n, n);
+  as.addForceJacobian(kq, q, v, p, -1.0, 0.0, 0, 0, 0);
+  kq.finish();
+  kv.begin(n, n);
+  as.addForceJacobian(kv, q, v, p, 0.0, -1.0, 0, 0, 0);
+  kv.finish();
+}
+
 VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
                             const VecX& yp, int k, const VecX& s, const VecX& sd) {
+  SparseAccumulator kq, kv;
+  gglForceJacobians(as, p, y, kq, kv);
+  return gglSensitivityResidual(as, p, M, y, yp, k, s, sd, kq.matrix(), kv.matrix());
+}
+
+VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
+                            const VecX& yp, int k, const VecX& s, const VecX& sd, const SpMat& negQq,
+                            const SpMat& negQv) {
   const int n = as.n(), m = as.m();
   const VecX q = y.segment(0, n), v = y.segment(n, n);
   const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
   const VecX sq = s.segment(0, n), sv = s.segment(n, n);
   const VecX sl = s.segment(2 * n, m), sm = s.segment(2 * n + m, m);
-  SparseAccumulator kq, kv;
-  kq.begin(n, n);
-  as.addForceJacobian(kq, q, v, p, -1.0, 0.0, 0, 0, 0);
-  kv.begin(n, n);
-  as.addForceJacobian(kv, q, v, p, 0.0, -1.0, 0, 0, 0);
   VecX r(2 * (n + m));
   r.segment(0, n) = sd.segment(0, n) - sv + as.phiQTransposeTimes(q, p, sm) +
                     as.hessianTimes(q, p, mu, sq) + as.phiQParamDerivativeTransposeTimes(q, p, k, mu);
   r.segment(n, n) = M * sd.segment(n, n) + as.massParamDerivativeTimes(p, k, yp.segment(n, n)) +
                     as.phiQTransposeTimes(q, p, sl) + as.hessianTimes(q, p, lam, sq) +
-                    as.phiQParamDerivativeTransposeTimes(q, p, k, lam) - kq.finish() * sq -
-                    kv.finish() * sv - as.forceParamDerivative(q, v, p, k);
+                    as.phiQParamDerivativeTransposeTimes(q, p, k, lam) - negQq * sq -
+                    negQv * sv - as.forceParamDerivative(q, v, p, k);
   if (m) {
     r.segment(2 * n, m) = as.phiQTimes(q, p, sq) + as.phiParamDerivative(q, p, k);
     r.segment(2 * n + m, m) = as.phiQTimes(q, p, sv) + as.hessianRowsTimes(q, p, v, sq) +
@@ -101,6 +116,7 @@ struct Problem {
   VecX* p;  ///< IDAS perturbs it in place with the difference-quotient method (dq)
   int n, m;
   SparseAccumulator acc;
+  SparseAccumulator kq, kv;  ///< -dQ/dq, -dQ/dv for the sensitivity residuals
   SpMat M;
   VecX pOfM;  ///< parameters M was computed at
   /// The mass matrix at the current p (recomputed only when IDAS has perturbed p).
@@ -171,9 +187,11 @@ int sensResidual(int Ns, double t, N_Vector yy, N_Vector yp, N_Vector, N_Vector*
   auto& pb = *static_cast<Problem*>(ud);
   try {
     pb.as->setTime(t);
+    gglForceJacobians(*pb.as, *pb.p, view(yy), pb.kq, pb.kv);
     for (int k = 0; k < Ns; ++k) {
       auto r = view(rS[k]);
-      r = gglSensitivityResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), k, view(yS[k]), view(ypS[k]));
+      r = gglSensitivityResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), k, view(yS[k]), view(ypS[k]),
+                                 pb.kq.matrix(), pb.kv.matrix());
     }
     return 0;
   } catch (const std::exception& e) {
@@ -220,7 +238,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   const int N = 2 * (n + m);
   const int Ns = static_cast<int>(start.dp.size());
   VecX pWork = p;  // IDAS' difference quotients perturb the parameters in place
-  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, {}, {}};
+  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, {}, {}, {}, {}};
   double t = start.x.t;
 
   SUNContext rawCtx = nullptr;

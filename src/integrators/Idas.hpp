@@ -19,6 +19,14 @@ const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, doub
 /// Sensitivity residual F_y s + F_y' s' + F_p for parameter k.
 VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
                             const VecX& yp, int k, const VecX& s, const VecX& sd);
+/// The same with -dQ/dq and -dQ/dv at y given (assembled once for all parameters: rebuilding
+/// them per parameter and call was a quarter of an IDAS run's time, in pattern builds and heap).
+VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
+                            const VecX& yp, int k, const VecX& s, const VecX& sd, const SpMat& negQq,
+                            const SpMat& negQv);
+/// -dQ/dq and -dQ/dv at the positions and velocities of y, into kq and kv (patterns cached).
+void gglForceJacobians(const Assembler& as, const VecX& p, const VecX& y, SparseAccumulator& kq,
+                       SparseAccumulator& kv);
 
 IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWithSens& start,
                               const IntegratorSettings& set, Observer& obs);
