@@ -46,6 +46,20 @@ Vec8 axialSlope(double xi, double L) {
   return a;
 }
 
+/// d S_i / dx, dy, dz (a, b, c) at the point (xi, eta, zeta) of an element of length L and
+/// section w x h [m]: the section terms of a and the linear-in-xi b, c on the gradient slots.
+void pointSlopes(double xi, double eta, double zeta, double L, double w, double h, Vec8& a, Vec8& b, Vec8& c) {
+  a = axialSlope(xi, L);
+  a[2] = -w * eta / L;
+  a[3] = -h * zeta / L;
+  a[6] = -a[2];
+  a[7] = -a[3];
+  b.setZero();
+  c.setZero();
+  b[2] = c[3] = 1.0 - xi;
+  b[6] = c[7] = xi;
+}
+
 /// Voigt strains (E_xx, E_yy, E_zz, 2 E_xy, 2 E_xz, 2 E_yz) of the columns Fx, Fy, Fz of J.
 template <class V, class S>
 void strains(const V& Fx, const V& Fy, const V& Fz, S eps[6]) {
@@ -180,17 +194,12 @@ void AncfBeam3D::elastic(const LocalState& s, double E, double G, double w, doub
   if (dQg) dQg->setZero(kN);
   const double V = L_ * w * h;
   for (const Point& P : pts_) {
-    Vec8 a = axialSlope(P.xi, L_), b = Vec8::Zero(), c = Vec8::Zero(), da = Vec8::Zero();
-    a[2] = -w * P.eta / L_;
-    a[3] = -h * P.zeta / L_;
-    a[6] = -a[2];
-    a[7] = -a[3];
+    Vec8 a, b, c, da = Vec8::Zero();
+    pointSlopes(P.xi, P.eta, P.zeta, L_, w, h, a, b, c);
     da[2] = -dw * P.eta / L_;
     da[3] = -dh * P.zeta / L_;
     da[6] = -da[2];
     da[7] = -da[3];
-    b[2] = c[3] = 1.0 - P.xi;
-    b[6] = c[7] = P.xi;
     const V3 Fx = X * a, Fy = X * b, Fz = X * c;
     double eps[6];
     strains(Fx, Fy, Fz, eps);
@@ -249,13 +258,8 @@ double AncfBeam3D::elasticEnergy(const LocalState& s, double E, double G, double
   const Eigen::Map<const Eigen::Matrix<double, 3, 8>> X(s.x.data());
   double U = 0.0;
   for (const Point& P : pts_) {
-    Vec8 a = axialSlope(P.xi, L_), b = Vec8::Zero(), c = Vec8::Zero();
-    a[2] = -w * P.eta / L_;
-    a[3] = -h * P.zeta / L_;
-    a[6] = -a[2];
-    a[7] = -a[3];
-    b[2] = c[3] = 1.0 - P.xi;
-    b[6] = c[7] = P.xi;
+    Vec8 a, b, c;
+    pointSlopes(P.xi, P.eta, P.zeta, L_, w, h, a, b, c);
     double eps[6];
     strains(V3(X * a), V3(X * b), V3(X * c), eps);
     for (int k = P.k0; k < P.k1; ++k) U += 0.5 * (k < 3 ? E : G) * L_ * w * h * P.w * eps[k] * eps[k];
