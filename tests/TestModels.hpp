@@ -1,6 +1,8 @@
 // Small models and finite-difference helpers shared by the tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <functional>
 #include <string>
 
@@ -91,6 +93,42 @@ inline IntegratorSettings integratorSettings(const std::string& type, double dtO
     s.dt = dtOrTol;
   }
   return s;
+}
+
+/// Symmetric relative difference |a - b| / max(|a|, |b|) in the max norm (0 for two zeros).
+inline double relMax(const MatX& a, const MatX& b) {
+  const double s = std::max(a.lpNorm<Eigen::Infinity>(), b.lpNorm<Eigen::Infinity>());
+  return s == 0.0 ? 0.0 : (a - b).lpNorm<Eigen::Infinity>() / s;
+}
+
+/// Element e's analytic parameter derivatives at s for the parameters p[0 .. np) its quantities
+/// read (k = np: bound to nothing, so no derivative): dQ/dp and dM/dp equal AD's to 1e-10 and
+/// central differences of force and mass (step 1e-6 |p_k|, p perturbed in place) to 1e-6.
+inline void expectParameterDerivatives(const Element& e, const LocalState& s, VecX& p, int np) {
+  for (int k = 0; k <= np; ++k) {
+    SCOPED_TRACE("parameter " + std::to_string(k));
+    VecX dQ, dQad;
+    MatX dM, dMad;
+    const bool dep = e.parameterDerivative(s, k, dQ, dM);
+    ASSERT_EQ(dep, e.parameterDerivativeAD(s, k, dQad, dMad));
+    ASSERT_EQ(dep, k < np);
+    if (!dep) continue;
+    EXPECT_LT(relMax(dQad, dQ), 1e-10) << "AD vs analytic dQ/dp";
+    EXPECT_LT(relMax(dMad, dM), 1e-10) << "AD vs analytic dM/dp";
+    const double h = 1e-6 * std::abs(p[k]);
+    const VecX p0 = p;
+    VecX Qp, Qm;
+    MatX Mp, Mm;
+    p[k] = p0[k] + h;
+    e.force(s, Qp);
+    e.mass(s, Mp);
+    p[k] = p0[k] - h;
+    e.force(s, Qm);
+    e.mass(s, Mm);
+    p = p0;
+    EXPECT_LT(relMax((Qp - Qm) / (2 * h), dQ), 1e-6) << "FD vs analytic dQ/dp";
+    EXPECT_LT(relMax((Mp - Mm) / (2 * h), dM), 1e-6) << "FD vs analytic dM/dp";
+  }
 }
 
 /// Relative error |a - b| / max(|b|, floor) in the max norm.

@@ -20,14 +20,11 @@
 
 using namespace flexsens;
 using flexsens::test::fdJacobian;
+using flexsens::test::relMax;
 
 namespace {
 
 /// Max-norm relative difference.
-double rel(const MatX& a, const MatX& b) {
-  const double s = std::max(a.lpNorm<Eigen::Infinity>(), b.lpNorm<Eigen::Infinity>());
-  return s == 0.0 ? 0.0 : (a - b).lpNorm<Eigen::Infinity>() / s;
-}
 
 /// Local state of one element with its own storage for p and gravity.
 struct Local {
@@ -74,7 +71,7 @@ void checkDerivatives(const AncfCable& e, Local& L, int nParams) {
   MatX K, Kv, Kad, Kvad;
   e.forceJacobian(s, K, Kv);
   e.forceJacobianAD(s, Kad, Kvad);
-  EXPECT_LT(rel(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+  EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
   EXPECT_EQ(Kv.norm(), 0.0);
   EXPECT_GT(K.norm(), 0.0);
   auto force = [&](const VecX& x) {
@@ -84,7 +81,7 @@ void checkDerivatives(const AncfCable& e, Local& L, int nParams) {
     e.force(t, Q);
     return Q;
   };
-  EXPECT_LT(rel(fdJacobian(force, s.x, 1e-6), K), 1e-6) << "FD vs analytic dQ/dq";
+  EXPECT_LT(relMax(fdJacobian(force, s.x, 1e-6), K), 1e-6) << "FD vs analytic dQ/dq";
   // Potential: its negative gradient is the force.
   auto energy = [&](const VecX& x) {
     LocalState t = s;
@@ -93,31 +90,8 @@ void checkDerivatives(const AncfCable& e, Local& L, int nParams) {
   };
   VecX Q;
   e.force(s, Q);
-  EXPECT_LT(rel(-fdJacobian(energy, s.x, 1e-6).transpose(), Q), 1e-6) << "-dU/dq vs Q";
-  for (int k = 0; k <= nParams; ++k) {  // k = nParams: bound to nothing
-    SCOPED_TRACE("parameter " + std::to_string(k));
-    VecX dQ, dQad;
-    MatX dM, dMad;
-    const bool dep = e.parameterDerivative(s, k, dQ, dM);
-    ASSERT_EQ(dep, e.parameterDerivativeAD(s, k, dQad, dMad));
-    ASSERT_EQ(dep, k < nParams);
-    if (!dep) continue;
-    EXPECT_LT(rel(dQad, dQ), 1e-10) << "AD vs analytic dQ/dp";
-    EXPECT_LT(rel(dMad, dM), 1e-10) << "AD vs analytic dM/dp";
-    const double h = 1e-6 * std::abs(L.p[k]);
-    const VecX p0 = L.p;
-    VecX Qp, Qm;
-    MatX Mp, Mm;
-    L.p[k] = p0[k] + h;
-    e.force(s, Qp);
-    e.mass(s, Mp);
-    L.p[k] = p0[k] - h;
-    e.force(s, Qm);
-    e.mass(s, Mm);
-    L.p = p0;
-    EXPECT_LT(rel((Qp - Qm) / (2 * h), dQ), 1e-6) << "FD vs analytic dQ/dp";
-    EXPECT_LT(rel((Mp - Mm) / (2 * h), dM), 1e-6) << "FD vs analytic dM/dp";
-  }
+  EXPECT_LT(relMax(-fdJacobian(energy, s.x, 1e-6).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+  test::expectParameterDerivatives(e, s, L.p, nParams);
 }
 
 }  // namespace
@@ -502,7 +476,7 @@ TEST(AncfRigidization, LeavesTheRigidMotions) {
     EXPECT_LT(as.phi(q, p).lpNorm<Eigen::Infinity>(), 1e-12);  // undeformed: satisfied
     const MatX J = as.phiQDense(q, p);
     // FD check of the slope rows' Jacobian (linear, so FD is exact up to round-off)
-    EXPECT_LT(rel(fdJacobian([&](const VecX& x) { return as.phi(x, p); }, q), J), 1e-8);
+    EXPECT_LT(relMax(fdJacobian([&](const VecX& x) { return as.phi(x, p); }, q), J), 1e-8);
     Eigen::FullPivLU<MatX> lu(J);
     lu.setThreshold(1e-10);
     EXPECT_EQ(m.n - lu.rank(), dim == 2 ? 3 : 5);

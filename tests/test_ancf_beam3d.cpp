@@ -19,13 +19,9 @@
 
 using namespace flexsens;
 using flexsens::test::fdJacobian;
+using flexsens::test::relMax;
 
 namespace {
-
-double rel(const MatX& a, const MatX& b) {
-  const double s = std::max(a.lpNorm<Eigen::Infinity>(), b.lpNorm<Eigen::Infinity>());
-  return s == 0.0 ? 0.0 : (a - b).lpNorm<Eigen::Infinity>() / s;
-}
 
 /// A section whose every entry is a parameter: p = (E, nu, density, width, height) or, square,
 /// (E, nu, density, side). Soft material so that strains of a few percent give forces of order 1.
@@ -94,10 +90,10 @@ TEST(AncfBeam3D, DerivativesMatchFiniteDifferencesAndAD) {
     MatX K, Kv, Kad, Kvad;
     e.forceJacobian(s, K, Kv);
     e.forceJacobianAD(s, Kad, Kvad);
-    EXPECT_LT(rel(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+    EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
     EXPECT_EQ(Kv.norm(), 0.0);
     EXPECT_EQ(Kvad.norm(), 0.0);
-    EXPECT_LT(rel(K, K.transpose()), 1e-13) << "conservative: symmetric stiffness";
+    EXPECT_LT(relMax(K, K.transpose()), 1e-13) << "conservative: symmetric stiffness";
     auto force = [&](const VecX& x) {
       LocalState t = s;
       t.x = x;
@@ -105,43 +101,18 @@ TEST(AncfBeam3D, DerivativesMatchFiniteDifferencesAndAD) {
       e.force(t, Q);
       return Q;
     };
-    EXPECT_LT(rel(fdJacobian(force, s.x, 1e-6), K), 1e-6) << "FD vs analytic dQ/dq";
+    EXPECT_LT(relMax(fdJacobian(force, s.x, 1e-6), K), 1e-6) << "FD vs analytic dQ/dq";
     VecX Q, Qt;
     e.force(s, Q);
     static_cast<const KernelElement<AncfBeam3D>&>(e).KernelElement<AncfBeam3D>::force(s, Qt);
-    EXPECT_LT(rel(Qt, Q), 1e-12) << "value template vs hand-coded force";
+    EXPECT_LT(relMax(Qt, Q), 1e-12) << "value template vs hand-coded force";
     auto energy = [&](const VecX& x) {
       LocalState t = s;
       t.x = x;
       return VecX::Constant(1, e.potential(t));
     };
-    EXPECT_LT(rel(-fdJacobian(energy, s.x, 1e-6).transpose(), Q), 1e-6) << "-dU/dq vs Q";
-    const int np = static_cast<int>(Lc.p.size());
-    for (int k = 0; k <= np; ++k) {  // k = np: bound to nothing
-      SCOPED_TRACE("parameter " + std::to_string(k));
-      VecX dQ, dQad;
-      MatX dM, dMad;
-      const bool dep = e.parameterDerivative(s, k, dQ, dM);
-      ASSERT_EQ(dep, e.parameterDerivativeAD(s, k, dQad, dMad));
-      ASSERT_EQ(dep, k < np);
-      if (!dep) continue;
-      EXPECT_LT(rel(dQad, dQ), 1e-10) << "AD vs analytic dQ/dp";
-      EXPECT_LT(rel(dMad, dM), 1e-10) << "AD vs analytic dM/dp";
-      const double h = 1e-6 * std::abs(Lc.p[k]);
-      const VecX p0 = Lc.p;
-      VecX Qp, Qm;
-      MatX Mp, Mm;
-      Lc.p[k] = p0[k] + h;
-      e.force(s, Qp);
-      e.mass(s, Mp);
-      Lc.p[k] = p0[k] - h;
-      e.force(s, Qm);
-      e.mass(s, Mm);
-      Lc.p = p0;
-      EXPECT_LT(rel((Qp - Qm) / (2 * h), dQ), 1e-6) << "FD vs analytic dQ/dp";
-      if (dM.norm() > 0) EXPECT_LT(rel((Mp - Mm) / (2 * h), dM), 1e-6) << "FD vs analytic dM/dp";
-      else EXPECT_EQ((Mp - Mm).norm(), 0.0);
-    }
+    EXPECT_LT(relMax(-fdJacobian(energy, s.x, 1e-6).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+    test::expectParameterDerivatives(e, s, Lc.p, static_cast<int>(Lc.p.size()));
   }
 }
 
@@ -478,7 +449,7 @@ TEST(AncfBeam3DRigidization, LeavesTheRigidMotions) {
     const VecX q = m.initialPositions(), p = m.nominalParameters();
     EXPECT_LT(as.phi(q, p).lpNorm<Eigen::Infinity>(), 1e-12);
     const MatX J = as.phiQDense(q, p);
-    EXPECT_LT(rel(fdJacobian([&](const VecX& x) { return as.phi(x, p); }, q), J), 1e-8);
+    EXPECT_LT(relMax(fdJacobian([&](const VecX& x) { return as.phi(x, p); }, q), J), 1e-8);
     Eigen::FullPivLU<MatX> lu(J);
     lu.setThreshold(1e-10);
     EXPECT_EQ(m.n - lu.rank(), c.motions);
