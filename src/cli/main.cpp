@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "simulate a scene and write series.csv, VTK frames and summary.json");
   run->add_option("scene", scenePath, "scene file (YAML)")->required();
   run->add_option("--out", outDir, "output directory (default: the scene's output.directory)");
-  run->add_option("--integrator", integrator, "idas | trapezoidal | bdf1 | generalized_alpha | maggi_rk4 (default: the scene's)");
+  run->add_option("--integrator", integrator, "idas | trapezoidal | midpoint | bdf1 | generalized_alpha | maggi_rk4 (default: the scene's)");
   run->add_option("--t-end", tEnd, "final time [s]");
   run->add_option("--dt", dt, "fixed step [s] (IDAS: largest step)");
   double rhoInf = 0, rtol = 0;

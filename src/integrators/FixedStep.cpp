@@ -5,6 +5,7 @@
 
 #include "core/PreconditionedSolve.hpp"
 #include "core/SparseLU.hpp"
+#include "integrators/InitialState.hpp"
 #include "integrators/StepEnd.hpp"
 #include "integrators/TimeGrid.hpp"
 
@@ -19,16 +20,31 @@ namespace {
 ///   v_{n+1} = v_n + h (1 - gamma) w_n + h gamma w_{n+1}
 ///   (1 - am) w_{n+1} + am w_n = (1 - af) a_{n+1} + af a_n,  w = pseudo-acceleration.
 /// Trapezoidal = (am, af, beta, gamma) = (0, 0, 1/4, 1/2), so w = a. BDF-1 is separate.
+/// Implicit midpoint rule: q_{n+1} = q_n + h (v_n + v_{n+1}) / 2, M (v_{n+1} - v_n) / h =
+/// Q(q_{n+1/2}, v_{n+1/2}) - Phi_q(q_{n+1})^T lambda with q_{n+1/2} = (q_n + q_{n+1}) / 2: a
+/// symplectic Runge-Kutta method, so with no constraint it conserves linear and angular
+/// momentum exactly (internal forces of a frame-indifferent energy have no net force or moment
+/// at any configuration) and every quadratic invariant; energy is bounded, not drifting.
+/// Constraints stay at t_{n+1} (index 3), as in the other schemes.
 struct Scheme {
   double ca = 0, cv = 0;
-  bool bdf1 = false, trapezoidal = false;
+  bool bdf1 = false, trapezoidal = false, midpoint = false;
   double am = 0, af = 0, beta = 0.25, gamma = 0.5, h = 0;
+  /// Forces are evaluated at (fw q_{n+1} + (1 - fw) q_n, fw v_{n+1} + (1 - fw) v_n).
+  double fw = 1.0;
   Scheme(const IntegratorSettings& set) : h(set.dt) {
     bdf1 = set.type == "bdf1";
     trapezoidal = set.type == "trapezoidal";
+    midpoint = set.type == "midpoint";
     if (bdf1) {
       ca = 1.0 / (h * h);
       cv = 1.0 / h;
+      return;
+    }
+    if (midpoint) {  // a = (v_{n+1} - v_n) / h with v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n
+      ca = 2.0 / (h * h);
+      cv = 2.0 / h;
+      fw = 0.5;
       return;
     }
     if (set.type == "generalized_alpha") {
@@ -45,6 +61,11 @@ struct Scheme {
   /// History terms (abar, vbar) from the previous step's q, v, a, w (or their
   /// sensitivities: the map is linear, and q_n enters through -ca q_n, -cv q_n).
   void history(const State& n, VecX& abar, VecX& vbar) const {
+    if (midpoint) {
+      abar = -2.0 / h * n.v;
+      vbar = -n.v;
+      return;
+    }
     if (bdf1) {
       abar = -n.v / h;
       vbar = VecX::Zero(n.v.size());
@@ -62,9 +83,11 @@ struct Scheme {
   }
   /// w_{n+1} from a_{n+1} (also for sensitivities); empty for BDF-1.
   VecX nextPseudo(const State& n, const VecX& aNext) const {
-    if (bdf1 || trapezoidal) return VecX();  // trapezoidal: w = a
+    if (bdf1 || trapezoidal || midpoint) return VecX();  // trapezoidal: w = a
     return ((1.0 - af) * aNext + af * n.a - am * pseudo(n)) / (1.0 - am);
   }
+  /// Where the forces are evaluated: fw x_{n+1} + (1 - fw) x_n (x = q or v).
+  VecX forcePoint(const VecX& next, const VecX& old) const { return fw == 1.0 ? next : VecX(fw * next + (1.0 - fw) * old); }
 };
 
 /// Modified Newton refreshes its matrix when an update shrinks by less than this factor.
@@ -75,12 +98,13 @@ constexpr double kRefreshRate = 0.5;
 constexpr double kSensitivityBackwardError = 1e-13;
 constexpr int kSensitivitySolves = 12;
 
-SpMat newtonMatrix(const Assembler& as, SparseAccumulator& acc, const VecX& q, const VecX& v,
+/// The Newton matrix at q_{n+1} = q, with the forces at their scheme point (qf, vf).
+SpMat newtonMatrix(const Assembler& as, SparseAccumulator& acc, const VecX& q, const VecX& qf, const VecX& vf,
                    const VecX& lt, const VecX& p, const Scheme& sc) {
   const int n = as.n(), m = as.m();
   const double sigma = 1.0 / sc.ca;
   acc.begin(n + m, n + m);
-  as.addMassAndForceJacobian(acc, q, v, p, 1.0, sigma, sigma * sc.cv, 0, 0);
+  as.addMassAndForceJacobian(acc, qf, vf, p, 1.0, sigma * sc.fw, sigma * sc.fw * sc.cv, 0, 0);
   as.addHessian(acc, q, p, lt, 1.0, 0, 0);
   as.addPhiQ(acc, q, p, 1.0, 0, n, true);
   as.addPhiQ(acc, q, p, 1.0, n, 0, false);
@@ -94,6 +118,10 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   const int n = as.n(), m = as.m();
   const double h = set.dt;
   const Scheme sc(set);
+  if (sc.midpoint && !masslessCoordinates(as, p).empty())  // their equilibrium at the midpoint oscillates
+    throw InputError("integrator midpoint: the model has massless parts (inertia: none), whose equilibrium "
+                     "the midpoint rule would hold at the mid-step, leaving the end state to oscillate; use "
+                     "trapezoidal, bdf1, generalized_alpha or idas");
   const double sigma = 1.0 / sc.ca;
   const long nsteps = fixedStepCount(set.tEnd - cur.x.t, h);
   const long every = frameEvery(set);
@@ -135,7 +163,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     auto residual = [&](const VecX& qq, const VecX& ll) {
       const VecX aa = sc.ca * (qq - old.q) + abar, vv = sc.cv * (qq - old.q) + vbar;
       VecX r(n + m);
-      r.head(n) = sigma * (M * aa - as.force(qq, vv, p)) + as.phiQTransposeTimes(qq, p, ll);
+      r.head(n) = sigma * (M * aa - as.force(sc.forcePoint(qq, old.q), sc.forcePoint(vv, old.v), p)) +
+                  as.phiQTransposeTimes(qq, p, ll);
       if (m) r.tail(m) = as.phi(qq, p);
       st.residualEvaluations++;
       return r;
@@ -146,7 +175,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       const VecX v = sc.cv * (qq - old.q) + vbar;
       std::ostringstream what;
       what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s" << how << ")";
-      lu.factor(newtonMatrix(as, acc, qq, v, ll, p, sc), what.str());
+      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q), sc.forcePoint(v, old.v), ll, p, sc), what.str());
       st.jacobianEvaluations++;
       factoredCa = sc.ca;
     };
@@ -310,7 +339,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     std::vector<State> dnext(cur.dp.size());
     if (!cur.dp.empty()) {
       // Exact derivative of the discrete step: Newton matrix at the converged point.
-      const SpMat& A = newtonMatrix(as, acc, q, next.v, lt, p, sc);
+      const VecX qf = sc.forcePoint(q, old.q), vf = sc.forcePoint(next.v, old.v);
+      const SpMat& A = newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
       st.jacobianEvaluations++;
       const std::string what = "sensitivity matrix at t = " + std::to_string(t) + " s";
       // Solved by GMRES preconditioned with the LU Newton kept (full Newton: of the last
@@ -318,8 +348,14 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       bool exact = false;
       const double normA = infNorm(A);
       kv.begin(n, n);
-      as.addForceJacobian(kv, q, next.v, p, 0.0, -1.0, 0, 0, 0);
-      const SpMat& dQdv = kv.finish();
+      as.addForceJacobian(kv, qf, vf, p, 0.0, -1.0, 0, 0, 0);
+      const SpMat dQdv = kv.finish();
+      SpMat dQdq;  // midpoint: the forces see q_n too
+      if (sc.fw != 1.0) {
+        kv.begin(n, n);
+        as.addForceJacobian(kv, qf, vf, p, -1.0, 0.0, 0, 0, 0);
+        dQdq = kv.finish();
+      }
       for (size_t k = 0; k < cur.dp.size(); ++k) {
         const State& dold = cur.dp[k];
         VecX dabar, dvbar;
@@ -327,8 +363,13 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         const VecX ah = -sc.ca * dold.q + dabar;  // d a / dp at fixed q_{n+1}
         const VecX vh = -sc.cv * dold.q + dvbar;  // d v / dp at fixed q_{n+1}
         VecX rp(n + m);
-        rp.head(n) = sigma * (as.massParamDerivativeTimes(p, k, next.a) + M * ah -
-                              as.forceParamDerivative(q, next.v, p, k) - dQdv * vh) +
+        // d(qf, vf)/dp at fixed q_{n+1}: ((1 - fw) dq_n, fw vh + (1 - fw) dv_n).
+        VecX forceTerm = as.forceParamDerivative(qf, vf, p, k);
+        if (sc.fw != 1.0)
+          forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
+        else
+          forceTerm += dQdv * vh;
+        rp.head(n) = sigma * (as.massParamDerivativeTimes(p, k, next.a) + M * ah - forceTerm) +
                      as.phiQParamDerivativeTransposeTimes(q, p, k, lt);
         if (m) rp.tail(m) = as.phiParamDerivative(q, p, k);
         VecX x;

@@ -6,7 +6,7 @@
 namespace flexsens {
 
 struct IntegratorSettings {
-  std::string type = "idas";   ///< idas | trapezoidal | bdf1 | generalized_alpha | maggi_rk4
+  std::string type = "idas";   ///< idas | trapezoidal | midpoint | bdf1 | generalized_alpha | maggi_rk4
   double tEnd = 1.0;           ///< [s]
   double dt = 1e-3;            ///< fixed step [s]; for IDAS the largest step allowed (0 = free)
   /// generalized_alpha: spectral radius at infinite frequency, in [0, 1]. 1 = no numerical
@@ -38,9 +38,9 @@ struct IntegratorSettings {
 inline bool isNewtonMode(const std::string& m) { return m == "full" || m == "modified"; }
 
 /// The integrator names scenes and the command line accept.
-inline constexpr const char* kIntegratorTypes = "idas, trapezoidal, bdf1, generalized_alpha or maggi_rk4";
+inline constexpr const char* kIntegratorTypes = "idas, trapezoidal, midpoint, bdf1, generalized_alpha or maggi_rk4";
 inline bool isIntegratorType(const std::string& t) {
-  return t == "idas" || t == "trapezoidal" || t == "bdf1" || t == "generalized_alpha" || t == "maggi_rk4";
+  return t == "idas" || t == "trapezoidal" || t == "midpoint" || t == "bdf1" || t == "generalized_alpha" || t == "maggi_rk4";
 }
 
 }  // namespace flexsens
