@@ -227,7 +227,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(pts);
   vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam, 8 shell triangle
   id->SetName("element_id");
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
@@ -243,6 +243,12 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       grid->InsertNextCell(VTK_LINE, 2, ids);
       kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3
                                                   : k == "rigid_body" ? 4 : k == "ancf_cable" ? 6 : k == "ancf_beam" ? 7 : 0);
+      id->InsertNextValue(static_cast<int>(e));
+    }
+    if (k == "shell_triangle") {  // the shell's surface (its hinges have no cell of their own)
+      vtkIdType ids[3] = {el.nodes()[0], el.nodes()[1], el.nodes()[2]};
+      grid->InsertNextCell(VTK_TRIANGLE, 3, ids);
+      kind->InsertNextValue(8);
       id->InsertNextValue(static_cast<int>(e));
     }
   }

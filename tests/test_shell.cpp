@@ -1,0 +1,504 @@
+// Discrete shells (elements/ShellTriangle.hpp, ShellHinge.hpp, ShellMesh.hpp, ShellReader.cpp).
+// References independent of the code under test: central finite differences (force
+// Jacobians, parameter derivatives, potential gradients, the dihedral angle's gradient and
+// Hessian), the AD kernels (equal to the analytic ones to 1e-10), zero force under rigid
+// motion, the closed-form edge forces of a uniformly stretched sheet (plane-stress
+// St. Venant-Kirchhoff written out here), the angle and gradient of a hinge folded by a known
+// angle, and Kirchhoff's natural frequencies of a simply supported square plate,
+//   omega_mn = pi^2 (m^2 + n^2) / a^2 sqrt(D / (rho t)),  D = E t^3 / (12 (1 - nu^2)).
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "TestModels.hpp"
+#include "app/Modes.hpp"
+#include "core/Assembler.hpp"
+#include "elements/ShellHinge.hpp"
+#include "elements/ShellMesh.hpp"
+#include "elements/ShellTriangle.hpp"
+#include "app/Run.hpp"
+#include "scene/Scene.hpp"
+
+using namespace flexsens;
+using flexsens::test::expectParameterDerivatives;
+using flexsens::test::fdJacobian;
+using flexsens::test::relMax;
+
+namespace {
+
+/// Properties bound to p = (E, nu, density, thickness, alpha) when `bound`, else constants.
+std::shared_ptr<ShellProperties> shellProps(bool bound, int count = 5) {
+  auto pr = std::make_shared<ShellProperties>();
+  const VecX v = (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished();
+  Quantity* q[5] = {&pr->E, &pr->nu, &pr->density, &pr->thickness, &pr->alpha};
+  for (int k = 0; k < 5; ++k) *q[k] = (bound && k < count) ? Quantity{0.0, k} : Quantity{v[k], -1};
+  return pr;
+}
+/// A soft sheet (rubber-like) with strong damping, so that at a 5% strain the elastic, weight and
+/// damping forces are of one order and central differences in each parameter stay above round-off.
+VecX shellParams() { return (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished(); }
+
+struct Local {
+  VecX p, g;
+  LocalState s;
+  Local(const VecX& x, const VecX& v, bool gravity) : p(shellParams()), g(Eigen::Vector3d(0.4, -1.1, -9.81)) {
+    s.dim = 3;
+    s.x = x;
+    s.v = v;
+    s.p = &p;
+    s.gravity = gravity ? &g : nullptr;
+  }
+};
+
+/// Rest positions of a hinge with its edge x0-x1 along a skew axis u, folded by `fold` [rad]:
+/// wing 1 along w (normal to u), wing 2 along -w turned about u towards n1 = u x w.
+VecX hingeRest(double fold) {
+  const Eigen::Vector3d u = Eigen::Vector3d(0.9, 0.2, -0.1).normalized();
+  const Eigen::Vector3d w = u.cross(Eigen::Vector3d(0.1, 0.3, 1.0)).normalized();
+  VecX X(12);
+  X << Eigen::Vector3d::Zero(), 0.21 * u, 0.09 * u + 0.16 * w,
+      Eigen::AngleAxisd(-fold, u) * Eigen::Vector3d(0.12 * u - 0.14 * w);
+  return X;
+}
+
+void expectKernelsAgree(const Element& e, const VecX& x, const VecX& v, int np) {
+  Local L(x, v, true);
+  MatX K, Kv, Kad, Kvad;
+  e.forceJacobian(L.s, K, Kv);
+  e.forceJacobianAD(L.s, Kad, Kvad);
+  EXPECT_GT(K.norm(), 0.0);
+  EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+  if (Kv.norm() > 0 || Kvad.norm() > 0) EXPECT_LT(relMax(Kvad, Kv), 1e-10) << "AD vs analytic dQ/dv";
+  auto fq = [&](const VecX& q) { LocalState s = L.s; s.x = q; VecX Q; e.force(s, Q); return Q; };
+  auto fv = [&](const VecX& w) { LocalState s = L.s; s.v = w; VecX Q; e.force(s, Q); return Q; };
+  EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6) << "FD vs analytic dQ/dq";
+  EXPECT_LT(relMax(fdJacobian(fv, v, 1e-4), Kv), 1e-6) << "FD vs analytic dQ/dv";
+  // -dU/dq = Q at zero velocity (elastic energy + gravity)
+  Local L0(x, VecX::Zero(x.size()), true);
+  VecX Q;
+  e.force(L0.s, Q);
+  auto U = [&](const VecX& q) { LocalState s = L0.s; s.x = q; VecX r(1); r[0] = e.potential(s); return r; };
+  EXPECT_LT(relMax(-fdJacobian(U, x).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+  expectParameterDerivatives(e, L.s, L.p, np);
+}
+
+}  // namespace
+
+TEST(Shell, TriangleDerivativesAgainstFiniteDifferencesAndAD) {
+  VecX X(9);
+  X << 0.0, 0.0, 0.0, 0.3, 0.05, 0.02, 0.08, 0.25, -0.03;
+  ShellTriangle e("t", {0, 1, 2}, shellProps(true), X);
+  std::srand(3);
+  const VecX x = X + 0.05 * VecX::Random(9), v = 0.4 * VecX::Random(9);
+  expectKernelsAgree(e, x, v, 5);
+  // mass: M = rho t A / 12 (1 + delta_ij) I, total rho t A
+  Local L(x, v, false);
+  MatX M;
+  ASSERT_TRUE(e.mass(L.s, M));
+  const double A = 0.5 * Eigen::Vector3d(X.segment<3>(3)).cross(Eigen::Vector3d(X.segment<3>(6))).norm();
+  EXPECT_NEAR(M.sum(), 3.0 * 1200.0 * 0.004 * A, 1e-12);
+  EXPECT_NEAR(M(0, 0), 1200.0 * 0.004 * A / 6.0, 1e-14);
+  EXPECT_NEAR(M(0, 3), 1200.0 * 0.004 * A / 12.0, 1e-14);
+}
+
+TEST(Shell, HingeDerivativesAgainstFiniteDifferencesAndAD) {
+  for (const double fold : {0.0, 0.6, -2.5}) {
+    for (const bool flatRest : {false, true}) {
+      SCOPED_TRACE("rest fold " + std::to_string(fold) + (flatRest ? " flat rest" : ""));
+      const VecX X = hingeRest(fold);
+      ShellHinge h("h", {0, 1, 2, 3}, shellProps(true, 2), X, flatRest);
+      // thickness is a parameter too: E -> 0, nu -> 1, thickness -> 2
+      auto pr = shellProps(false);
+      pr->E = {0.0, 0};
+      pr->nu = {0.0, 1};
+      pr->thickness = {0.0, 2};
+      ShellHinge e("h", {0, 1, 2, 3}, pr, X, flatRest);
+      std::srand(5);
+      const VecX x = X + 0.03 * VecX::Random(12), v = VecX::Random(12);
+      Local L(x, v, true);
+      VecX p3 = (VecX(3) << 2.0e6, 0.3, 0.004).finished();
+      L.s.p = &p3;
+      MatX K, Kv, Kad, Kvad;
+      e.forceJacobian(L.s, K, Kv);
+      e.forceJacobianAD(L.s, Kad, Kvad);
+      EXPECT_LT(relMax(Kad, K), 1e-10);
+      EXPECT_EQ(Kv.norm(), 0.0);
+      auto fq = [&](const VecX& q) { LocalState s = L.s; s.x = q; VecX Q; e.force(s, Q); return Q; };
+      EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6);
+      auto U = [&](const VecX& q) { LocalState s = L.s; s.x = q; VecX r(1); r[0] = e.potential(s); return r; };
+      VecX Q;
+      e.force(L.s, Q);
+      EXPECT_LT(relMax(-fdJacobian(U, x).transpose(), Q), 1e-6);
+      expectParameterDerivatives(e, L.s, p3, 3);
+      MatX M;
+      EXPECT_FALSE(e.mass(L.s, M));  // massless
+      EXPECT_NEAR(e.restAngle(), flatRest ? 0.0 : fold, 1e-12);
+    }
+  }
+}
+
+// The dihedral angle of a hinge folded by a known angle phi about its edge, after a large
+// rotation and translation; the gradient against the closed form for the wing tips,
+//   d theta / d x3 = n2_hat / h3,  d theta / d x2 = n1_hat / h2  (h: distance to the edge line,
+//   n1 = e x a, n2 = b x e as in ShellHinge.hpp), translation and rotation invariance, and
+//   the Hessian against central differences of the gradient.
+TEST(Shell, DihedralAngleOfAKnownFold) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(1.3, Eigen::Vector3d(0.2, -1.0, 0.6).normalized()).toRotationMatrix();
+  const Eigen::Vector3d c(0.7, -2.0, 5.0);
+  for (const double phi : {0.0, 0.4, -1.1, 2.9}) {
+    SCOPED_TRACE("phi = " + std::to_string(phi));
+    // edge along x; wing 1 at +y; wing 2 at -y rotated about x by phi (towards +z = n1 for phi > 0)
+    const Eigen::Vector3d x0(0, 0, 0), x1(0.5, 0, 0), x2(0.2, 0.3, 0);
+    const Eigen::Vector3d x3 = Eigen::AngleAxisd(-phi, Eigen::Vector3d::UnitX()) * Eigen::Vector3d(0.35, -0.2, 0);
+    VecX x(12);
+    x << R * x0 + c, R * x1 + c, R * x2 + c, R * x3 + c;
+    VecX g;
+    MatX H;
+    const double theta = ShellHinge::dihedralAngle(x, &g, &H);
+    EXPECT_NEAR(theta, phi, 1e-13);
+    const Eigen::Vector3d e = R * (x1 - x0), a = R * (x2 - x0), b = R * (x3 - x0);
+    const Eigen::Vector3d n1 = e.cross(a).normalized(), n2 = b.cross(e).normalized();
+    const double h2 = 0.3, h3 = 0.2;  // distances of the wing tips to the edge line [m]
+    EXPECT_LT((g.segment<3>(9) - n2 / h3).norm(), 1e-12 / h3);
+    // raising either wing tip along its triangle's normal deepens the fold
+    EXPECT_LT((g.segment<3>(6) - n1 / h2).norm(), 1e-12 / h2);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), mom = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 4; ++i) {
+      sum += g.segment<3>(3 * i);
+      mom += Eigen::Vector3d(x.segment<3>(3 * i)).cross(Eigen::Vector3d(g.segment<3>(3 * i)));
+    }
+    EXPECT_LT(sum.norm(), 1e-12);
+    EXPECT_LT(mom.norm(), 1e-11);
+    auto th = [](const VecX& y) { VecX r(1); r[0] = ShellHinge::dihedralAngle(y); return r; };
+    auto gr = [](const VecX& y) { VecX r; ShellHinge::dihedralAngle(y, &r); return r; };
+    EXPECT_LT(relMax(fdJacobian(th, x).transpose(), g), 1e-8);
+    EXPECT_LT(relMax(fdJacobian(gr, x), H), 1e-6);
+    EXPECT_LT(relMax(H, H.transpose()), 1e-12);
+  }
+}
+
+// A bent rest state moved rigidly (rotation by 2 rad, translation): zero elastic force on
+// the triangles and the hinge (gravity off), relative to the force of a 1% stretch.
+TEST(Shell, RigidMotionGivesZeroElasticForce) {
+  const VecX X = hingeRest(0.8);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(2.0, Eigen::Vector3d(1.0, 0.4, -0.7).normalized()).toRotationMatrix();
+  VecX x(12);
+  for (int i = 0; i < 4; ++i) x.segment<3>(3 * i) = R * X.segment<3>(3 * i) + Eigen::Vector3d(3.0, -1.0, 0.5);
+  auto pr = shellProps(false);
+  std::vector<std::unique_ptr<Element>> els;
+  std::vector<Eigen::Vector3d> rest;
+  for (int i = 0; i < 4; ++i) rest.push_back(X.segment<3>(3 * i));
+  const ShellMeshCounts n = buildShell("s", rest, {{0, 1, 2}, {1, 0, 3}}, {0, 1, 2, 3}, pr, false, els,
+                                       [](int i) { return std::to_string(i); });
+  ASSERT_EQ(n.triangles, 2);
+  ASSERT_EQ(n.hinges, 1);
+  ASSERT_EQ(n.boundaryEdges, 4);
+  const VecX p(0);
+  for (const auto& el : els) {
+    SCOPED_TRACE(el->name());
+    std::vector<int> idx = el->nodes();
+    VecX xl(3 * idx.size()), xs(3 * idx.size());
+    for (size_t j = 0; j < idx.size(); ++j) {
+      xl.segment<3>(3 * j) = x.segment<3>(3 * idx[j]);
+      xs.segment<3>(3 * j) = 1.01 * X.segment<3>(3 * idx[j]);  // 1% stretch (and, for the hinge, no fold change)
+    }
+    LocalState s;
+    s.dim = 3;
+    s.p = &p;
+    s.x = xl;
+    s.v = VecX::Zero(xl.size());
+    VecX Q, Qs;
+    el->force(s, Q);
+    EXPECT_NEAR(el->potential(s), 0.0, 1e-18);
+    s.x = xs;
+    el->force(s, Qs);
+    if (el->kind() == "shell_triangle") {
+      EXPECT_GT(Qs.norm(), 1.0);
+      EXPECT_LT(Q.norm(), 1e-12 * Qs.norm());
+    } else {
+      EXPECT_LT(Q.norm(), 1e-14);  // [N]: D ~ 1e-3 N m, theta - theta0 ~ 1e-16
+    }
+  }
+}
+
+// A rectangular sheet a x b (two triangles and a hinge on the diagonal) in a tilted plane,
+// stretched uniformly by lambda1 along its side a and lambda2 along b: Green-Lagrange
+// E = diag((l1^2 - 1)/2, (l2^2 - 1)/2), plane-stress S11 = E/(1 - nu^2) (E11 + nu E22),
+// S22 = E/(1 - nu^2) (E22 + nu E11); the first Piola-Kirchhoff stress P = F S acts on the
+// edges, so each corner carries half of the two edge forces next to it: at corner (0, 0)
+// Q = t/2 (b l1 S11 d1 + a l2 S22 d2), d1, d2 the current side directions. The hinge stays
+// flat: no force.
+TEST(Shell, UniformStretchGivesTheMembraneForceExactly) {
+  const double a = 0.4, b = 0.25, l1 = 1.07, l2 = 0.96;
+  const double E0 = shellParams()[0], nu = shellParams()[1], t = shellParams()[3];  // [Pa], [-], [m]
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 1.0, -0.5).normalized()).toRotationMatrix();
+  const Eigen::Vector3d d1 = R.col(0), d2 = R.col(1), o(0.2, -0.1, 0.3);
+  std::vector<Eigen::Vector3d> rest{o, o + a * d1, o + a * d1 + b * d2, o + b * d2};
+  for (const bool otherDiagonal : {false, true}) {
+    SCOPED_TRACE(otherDiagonal ? "diagonal 1-3" : "diagonal 0-2");
+    const std::vector<std::array<int, 3>> tris =
+        otherDiagonal ? std::vector<std::array<int, 3>>{{0, 1, 3}, {1, 2, 3}} : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 2, 3}};
+    std::vector<std::unique_ptr<Element>> els;
+    buildShell("sheet", rest, tris, {0, 1, 2, 3}, shellProps(false), false, els, [](int i) { return std::to_string(i); });
+    ASSERT_EQ(els.size(), 3u);
+    VecX x(12);
+    for (int i = 0; i < 4; ++i) {
+      const Eigen::Vector3d r = rest[i] - o;
+      x.segment<3>(3 * i) = o + l1 * r.dot(d1) * d1 + l2 * r.dot(d2) * d2;
+    }
+    VecX Q = VecX::Zero(12);
+    const VecX p(0);
+    for (const auto& el : els) {
+      LocalState s;
+      s.dim = 3;
+      s.p = &p;
+      const auto& idx = el->nodes();
+      s.x.resize(3 * idx.size());
+      for (size_t j = 0; j < idx.size(); ++j) s.x.segment<3>(3 * j) = x.segment<3>(3 * idx[j]);
+      VecX Qe;
+      el->force(s, Qe);
+      if (el->kind() == "shell_hinge") EXPECT_LT(Qe.norm(), 1e-9);
+      for (size_t j = 0; j < idx.size(); ++j) Q.segment<3>(3 * idx[j]) += Qe.segment<3>(3 * j);
+    }
+    const double E11 = 0.5 * (l1 * l1 - 1), E22 = 0.5 * (l2 * l2 - 1), c = E0 / (1 - nu * nu);
+    const double S11 = c * (E11 + nu * E22), S22 = c * (E22 + nu * E11);
+    const Eigen::Vector3d f1 = 0.5 * t * b * l1 * S11 * d1, f2 = 0.5 * t * a * l2 * S22 * d2;  // [N]
+    VecX expected(12);
+    expected << f1 + f2, -f1 + f2, -f1 - f2, f1 - f2;
+    EXPECT_LT((Q - expected).lpNorm<Eigen::Infinity>(), 1e-10 * expected.lpNorm<Eigen::Infinity>());
+  }
+}
+
+// ------------------------------------------------------------------ plate frequencies
+namespace {
+
+constexpr double kA = 1.0, kE = 2.1e11, kNu = 0.3, kRho = 7800.0, kT = 0.01;  // [m], [Pa], [-], [kg/m^3], [m]
+
+struct PlateMesh {
+  std::vector<Eigen::Vector3d> X;
+  std::vector<std::array<int, 3>> tris;
+  double h = 0.0;  ///< longest edge [m]
+};
+
+/// Rows of nodes y_j = j a / ny; even rows at x = i a / nx, odd rows shifted by half a
+/// spacing (plus the two side nodes): near-equilateral triangles when ny / nx ~ 2 / sqrt(3),
+/// half triangles along the sides x = 0, a.
+PlateMesh shiftedRows(int nx, int ny) {
+  PlateMesh m;
+  std::vector<std::vector<int>> rows(ny + 1);
+  for (int j = 0; j <= ny; ++j) {
+    const double y = kA * j / ny;
+    std::vector<double> xs;
+    if (j % 2 == 0)
+      for (int i = 0; i <= nx; ++i) xs.push_back(kA * i / nx);
+    else {
+      xs.push_back(0.0);
+      for (int i = 0; i < nx; ++i) xs.push_back(kA * (i + 0.5) / nx);
+      xs.push_back(kA);
+    }
+    for (double x : xs) {
+      rows[j].push_back(static_cast<int>(m.X.size()));
+      m.X.emplace_back(x, y, 0.0);
+    }
+  }
+  for (int j = 0; j < ny; ++j) {  // zip rows j and j+1, always advancing the one whose next node comes first
+    const auto &A = rows[j], &B = rows[j + 1];
+    size_t i = 0, k = 0;
+    while (i + 1 < A.size() || k + 1 < B.size()) {
+      const bool advanceA = k + 1 == B.size() || (i + 1 < A.size() && m.X[A[i + 1]].x() <= m.X[B[k + 1]].x() - 1e-12);
+      if (advanceA) {
+        m.tris.push_back({A[i], A[i + 1], B[k]});
+        ++i;
+      } else {
+        m.tris.push_back({A[i], B[k + 1], B[k]});
+        ++k;
+      }
+    }
+  }
+  for (const auto& t : m.tris)
+    for (int j = 0; j < 3; ++j) m.h = std::max(m.h, (m.X[t[j]] - m.X[t[(j + 1) % 3]]).norm());
+  return m;
+}
+
+/// Squares of side a / n, each cut by the same diagonal (right triangles).
+PlateMesh rightTriangles(int n) {
+  PlateMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.X.emplace_back(kA * i / n, kA * j / n, 0.0);
+  auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.tris.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.tris.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  m.h = std::sqrt(2.0) * kA / n;
+  return m;
+}
+
+/// Lowest `count` natural frequencies [rad/s] of shell elements `els` at their rest positions
+/// X (flat, z = 0), the nodes with fixed[i] held. At the flat rest state the transverse (z)
+/// motion decouples from the in-plane motion (checked), so the dense generalized eigenproblem
+/// is solved on the z coordinates of the free nodes only.
+std::vector<double> transverseFrequencies(const std::vector<std::unique_ptr<Element>>& els,
+                                          const std::vector<Eigen::Vector3d>& X, const std::vector<bool>& fixed,
+                                          int count) {
+  std::vector<int> zdof(X.size(), -1);
+  int n = 0;
+  for (size_t i = 0; i < X.size(); ++i)
+    if (!fixed[i]) zdof[i] = n++;
+  MatX K = MatX::Zero(n, n), M = MatX::Zero(n, n);
+  double coupling = 0.0, scale = 0.0;
+  const VecX p(0);
+  for (const auto& el : els) {
+    const auto& idx = el->nodes();
+    LocalState s;
+    s.dim = 3;
+    s.p = &p;
+    s.x.resize(3 * idx.size());
+    s.v = VecX::Zero(3 * idx.size());
+    for (size_t j = 0; j < idx.size(); ++j) s.x.segment<3>(3 * j) = X[idx[j]];
+    MatX Kq, Kv, Me;
+    el->forceJacobian(s, Kq, Kv);
+    const bool massive = el->mass(s, Me);
+    for (size_t a = 0; a < idx.size(); ++a)
+      for (size_t b = 0; b < idx.size(); ++b) {
+        scale = std::max(scale, std::abs(Kq(3 * a + 2, 3 * b + 2)));
+        for (int c = 0; c < 2; ++c) coupling = std::max(coupling, std::abs(Kq(3 * a + 2, 3 * b + c)));
+        const int r = zdof[idx[a]], q = zdof[idx[b]];
+        if (r < 0 || q < 0) continue;
+        K(r, q) -= Kq(3 * a + 2, 3 * b + 2);
+        if (massive) M(r, q) += Me(3 * a + 2, 3 * b + 2);
+      }
+  }
+  EXPECT_LE(coupling, 1e-12 * scale) << "transverse and in-plane motion couple at the flat state";
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatX> es(0.5 * (K + K.transpose()), M, Eigen::EigenvaluesOnly);
+  std::vector<double> w;
+  for (int k = 0; k < count; ++k) w.push_back(std::sqrt(es.eigenvalues()[k]));
+  return w;
+}
+
+/// The same for a plate mesh built here, simply supported: its boundary nodes fixed (no hinge
+/// on a boundary edge, so the rotation about the edge is free).
+std::vector<double> plateFrequencies(const PlateMesh& pm, int count) {
+  auto pr = std::make_shared<ShellProperties>();
+  pr->E = {kE, -1};
+  pr->nu = {kNu, -1};
+  pr->density = {kRho, -1};
+  pr->thickness = {kT, -1};
+  std::vector<int> ids(pm.X.size());
+  std::vector<bool> fixed(pm.X.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    ids[i] = static_cast<int>(i);
+    const Eigen::Vector3d& x = pm.X[i];
+    fixed[i] = x.x() < 1e-12 || x.y() < 1e-12 || x.x() > kA - 1e-12 || x.y() > kA - 1e-12;
+  }
+  std::vector<std::unique_ptr<Element>> els;
+  buildShell("plate", pm.X, pm.tris, ids, pr, false, els, [](int i) { return std::to_string(i); });
+  return transverseFrequencies(els, pm.X, fixed, count);
+}
+
+double kirchhoff(int m, int n) {
+  const double D = kE * kT * kT * kT / (12.0 * (1.0 - kNu * kNu));
+  return M_PI * M_PI * (m * m + n * n) / (kA * kA) * std::sqrt(D / (kRho * kT));
+}
+
+}  // namespace
+
+// Shifted-row (near-equilateral) meshes converge to Kirchhoff's simply supported plate: the
+// first three frequencies (modes (1,1), (1,2), (2,1)) at three mesh sizes, each halving h,
+// approach the analytic values from above at first order (measured: errors 5.7/3.7/4.5%,
+// 3.5/2.0/2.6%, 1.6/1.0/1.05%, rates 1.0-1.3; a fourth mesh 52x60, 18 s, gave 0.82/0.50/0.54%).
+TEST(Shell, SimplySupportedPlateFrequenciesConverge) {
+  const double ref[3] = {kirchhoff(1, 1), kirchhoff(1, 2), kirchhoff(2, 1)};
+  const std::array<std::array<int, 2>, 3> sizes{{{7, 8}, {13, 15}, {26, 30}}};
+  std::vector<std::array<double, 3>> err;
+  std::vector<double> hs;
+  for (const auto& [nx, ny] : sizes) {
+    const PlateMesh pm = shiftedRows(nx, ny);
+    const auto w = plateFrequencies(pm, 3);
+    std::array<double, 3> e{};
+    for (int k = 0; k < 3; ++k) e[k] = (w[k] - ref[k]) / ref[k];
+    std::printf("shifted rows %dx%d (h = %.4f m): omega = %.4f %.4f %.4f rad/s (Kirchhoff %.4f %.4f %.4f), rel. errors %+.4f %+.4f %+.4f\n",
+                nx, ny, pm.h, w[0], w[1], w[2], ref[0], ref[1], ref[2], e[0], e[1], e[2]);
+    err.push_back(e);
+    hs.push_back(pm.h);
+  }
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE("mode " + std::to_string(k + 1));
+    for (size_t i = 0; i < err.size(); ++i) EXPECT_GT(err[i][k], 0.0);  // from above
+    for (size_t i = 1; i < err.size(); ++i) {
+      const double rate = std::log(err[i - 1][k] / err[i][k]) / std::log(hs[i - 1] / hs[i]);
+      std::printf("mode %d: observed rate %.2f from h = %.4f to %.4f m\n", k + 1, rate, hs[i - 1], hs[i]);
+      EXPECT_GT(rate, 0.7);
+    }
+    EXPECT_LT(err.back()[k], 0.02);
+  }
+}
+
+// Right triangles (every square cut by the same diagonal) do not converge to Kirchhoff's plate:
+// the hinge energy of that pattern stiffens the twist (about 3 times Kirchhoff's 2 Hxy^2 per
+// unit area), so modes (1,1) and (2,1) stay 33% too high and (1,2) 10% at every size.
+TEST(Shell, RightTriangleMeshesConvergeToAStifferPlate) {
+  const double ref[3] = {kirchhoff(1, 1), kirchhoff(1, 2), kirchhoff(2, 1)};
+  std::vector<double> first;
+  for (int n : {8, 16, 32}) {
+    const PlateMesh pm = rightTriangles(n);
+    const auto w = plateFrequencies(pm, 3);
+    std::printf("right triangles %dx%d (h = %.4f m): rel. errors %+.4f %+.4f %+.4f\n", n, n, pm.h,
+                (w[0] - ref[0]) / ref[0], (w[1] - ref[1]) / ref[1], (w[2] - ref[2]) / ref[2]);
+    first.push_back((w[0] - ref[0]) / ref[0]);
+  }
+  for (double e : first) EXPECT_GT(e, 0.3);
+  EXPECT_LT(std::abs(first[2] - first[1]), 0.01);  // not converging towards 0
+}
+
+// The same plate as a scene (type: shell, tests/scenes/shell/square.geo, edges grounded) on
+// Gmsh's unstructured (frontal-Delaunay, near-equilateral) triangles at four element sizes.
+// Measured errors (modes 1-3): size 0.2: 2.5/1.4/3.3%, 0.1: 0.3/0.1/0.4%, 0.05: 1.6/0.6/1.0%,
+// 0.025: 0.4/0.1/0.2% (0.07: 0.9/0.1/1.2%, 0.035: 0.6/0.3/0.6%): within 2% from size 0.1 on
+// and trending to Kirchhoff's values, but not monotonically (no clean rate: each mesh's
+// triangle shapes differ). At the coarsest, `flexsens modes`'
+// analysis (src/app/Modes, all three coordinates of every free node) gives the same first
+// three frequencies as the transverse problem.
+TEST(Shell, UnstructuredGmshPlateFrequencies) {
+  const double ref[3] = {kirchhoff(1, 1), kirchhoff(1, 2), kirchhoff(2, 1)};
+  for (const double size : {0.2, 0.1, 0.05, 0.025}) {
+    std::ostringstream text;
+    text.precision(17);
+    text << "dimension: 3\nelements:\n  - {name: plate, type: shell, mesh: square.geo, group: plate, size: " << size
+         << ", E: " << kE << ", nu: " << kNu << ", density: " << kRho << ", thickness: " << kT
+         << ", ground: [edges]}\nintegrator: {type: trapezoidal, t_end: 0.01, dt: 0.001}\n";
+    const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+    const Model& m = *sc.model;
+    std::vector<Eigen::Vector3d> X;
+    std::vector<bool> fixed;
+    for (const Node& nd : m.nodes) {
+      X.push_back(nd.position);
+      fixed.push_back(nd.ground);
+    }
+    const auto w = transverseFrequencies(m.elements, X, fixed, 3);
+    double h = 0.0;
+    int tris = 0;
+    for (const auto& el : m.elements)
+      if (el->kind() == "shell_triangle") {
+        ++tris;
+        for (int j = 0; j < 3; ++j) h = std::max(h, (X[el->nodes()[j]] - X[el->nodes()[(j + 1) % 3]]).norm());
+      }
+    std::printf("Gmsh size %.2f (%d triangles, longest edge %.4f m): rel. errors %+.4f %+.4f %+.4f\n", size, tris, h,
+                (w[0] - ref[0]) / ref[0], (w[1] - ref[1]) / ref[1], (w[2] - ref[2]) / ref[2]);
+    for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(w[k] - ref[k]) / ref[k], size > 0.03 ? 0.04 : 0.01) << "mode " << k + 1;
+    if (size == 0.2) {
+      Assembler as(m);
+      const VecX p = m.nominalParameters();
+      const State s = consistentState(as, p);
+      const ModalAnalysis a = analyzeModes(as, s, p, 3);
+      EXPECT_EQ(a.tangent, m.n);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(a.modes[k].omega(), w[k], 1e-8 * w[k]) << "mode " << k + 1;
+    }
+  }
+}
