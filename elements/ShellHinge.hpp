@@ -20,8 +20,9 @@
 // weight of nu = -1/3 instead of Kirchhoff's 2 (1 - nu) det H. That term integrates to zero over
 // clamped or simply supported plates with straight edges, so their frequencies converge;
 // free edges and curved boundaries see it. On other mesh patterns the hinge energy is
-// anisotropic (right triangles of a square grid stiffen the twist Hxy by a factor about 3):
-// see tests/test_shell.cpp and the README for which meshes converge to Kirchhoff's plate.
+// anisotropic (on right triangles of a square grid a cylinder bent about the cut diagonal
+// stores 3 times Kirchhoff's energy): see tests/test_shell.cpp and the README for which
+// meshes converge to Kirchhoff's plate (near-equilateral ones, at first order).
 // theta - theta0 is wrapped to (-pi, pi]; a triangle of zero area (n1 or n2 = 0) is a
 // NumericalError. No membrane-bending coupling beyond the geometry (flat rest: none at the
 // linear level). Units: positions [m], D [N m], forces [N], energy [J].

@@ -274,6 +274,68 @@ TEST(Shell, UniformStretchGivesTheMembraneForceExactly) {
   }
 }
 
+// The hinge weight's calibration (ShellHinge.hpp): six triangles around a node, its nodes on
+// the surface z = x^T H x / 2 (small curvature, so theta is linear in H to 1e-6). Every hinge
+// of a uniform mesh under a uniform H folds as its parallel neighbours do, and a unit area
+// holds 1 / (2 A_t) edges of each of the three directions, so the mesh's energy per unit area
+// is the six hinges' energy over 4 A_t. Equilateral triangles: D/2 [(tr H)^2 - 8/3 det H]
+// (derived in ShellHinge.hpp from the slope jumps of the linear interpolant): exactly
+// Kirchhoff's D/2 (Delta w)^2 for any cylinder, 1/3 of the sphere's and 8/3 of the saddle's
+// (the Gaussian-curvature term of nu = -1/3). Right triangles (a square grid cut by one
+// diagonal): a cylinder bent about a side costs Kirchhoff's energy, one bent about the cut
+// diagonal 3 times as much (measured 3.0000, asserted only > 2.5: the anisotropy behind the
+// right-triangle plate's wrong limit below).
+TEST(Shell, HingeEnergyPerAreaOfUniformCurvature) {
+  auto pr = shellProps(false);
+  const double D = shell::bendingStiffness(2.0e5, 0.3, 0.004), h = 0.1, k = 1e-4;  // [N m], [m], [1/m]
+  auto energyDensity = [&](const std::vector<Eigen::Vector2d>& ring, const Eigen::Matrix2d& H) {
+    std::vector<Eigen::Vector3d> X{Eigen::Vector3d::Zero()};
+    for (const auto& r : ring) X.emplace_back(r.x(), r.y(), 0.5 * r.dot(H * r));
+    std::vector<std::array<int, 3>> tris;
+    for (int i = 0; i < 6; ++i) tris.push_back({0, 1 + i, 1 + (i + 1) % 6});
+    std::vector<std::unique_ptr<Element>> els;
+    buildShell("patch", X, tris, {0, 1, 2, 3, 4, 5, 6}, pr, true, els, [](int i) { return std::to_string(i); });
+    double U = 0.0;
+    const VecX p(0);
+    int hinges = 0;
+    for (const auto& el : els) {
+      if (el->kind() != "shell_hinge") continue;
+      LocalState s;
+      s.dim = 3;
+      s.p = &p;
+      s.x.resize(12);
+      for (int j = 0; j < 4; ++j) s.x.segment<3>(3 * j) = X[el->nodes()[j]];
+      U += el->potential(s);
+      ++hinges;
+    }
+    EXPECT_EQ(hinges, 6);
+    return U;  // [J], the six hinges
+  };
+  std::vector<Eigen::Vector2d> equi, right;
+  for (int i = 0; i < 6; ++i) equi.emplace_back(h * std::cos(M_PI * i / 3), h * std::sin(M_PI * i / 3));
+  right = {{h, 0}, {h, h}, {0, h}, {-h, 0}, {-h, -h}, {0, -h}};  // the cut diagonal along (1, 1)
+  const double AtEqui = std::sqrt(3.0) / 4 * h * h, AtRight = 0.5 * h * h;
+  auto kirchhoff = [&](const Eigen::Matrix2d& H) { return 0.5 * D * H.trace() * H.trace(); };
+  for (const double phi : {0.0, 0.3, 1.0, 2.2}) {
+    const Eigen::Vector2d d(std::cos(phi), std::sin(phi));
+    const Eigen::Matrix2d H = k * d * d.transpose();
+    EXPECT_NEAR(energyDensity(equi, H) / (4 * AtEqui) / kirchhoff(H), 1.0, 1e-5) << "cylinder at " << phi;
+  }
+  const Eigen::Matrix2d sphere = k * Eigen::Matrix2d::Identity();
+  Eigen::Matrix2d saddle, twist;
+  saddle << k, 0, 0, -k;
+  twist << 0, k, k, 0;
+  EXPECT_NEAR(energyDensity(equi, sphere) / (4 * AtEqui) / (0.5 * D * (4 - 8.0 / 3) * k * k), 1.0, 1e-5);
+  EXPECT_NEAR(energyDensity(equi, saddle) / (4 * AtEqui) / (0.5 * D * 8.0 / 3 * k * k), 1.0, 1e-5);
+  EXPECT_NEAR(energyDensity(equi, twist) / (4 * AtEqui) / (0.5 * D * 8.0 / 3 * k * k), 1.0, 1e-5);
+  const Eigen::Vector2d ex(1, 0), ed = Eigen::Vector2d(1, 1).normalized();
+  const double side = energyDensity(right, k * ex * ex.transpose()) / (4 * AtRight) / (0.5 * D * k * k);
+  const double diag = energyDensity(right, k * ed * ed.transpose()) / (4 * AtRight) / (0.5 * D * k * k);
+  std::printf("right triangles: cylinder about a side %.4f, about the cut diagonal %.4f times Kirchhoff's energy\n", side, diag);
+  EXPECT_NEAR(side, 1.0, 1e-5);
+  EXPECT_GT(diag, 2.5);
+}
+
 // ------------------------------------------------------------------ plate frequencies
 namespace {
 
