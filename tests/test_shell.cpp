@@ -31,17 +31,18 @@ using flexsens::test::relMax;
 
 namespace {
 
-/// Properties bound to p = (E, nu, density, thickness, alpha) when `bound`, else constants.
-std::shared_ptr<ShellProperties> shellProps(bool bound, int count = 5) {
+/// p = (E, nu, density, thickness, alpha): a soft sheet (rubber-like) with strong damping, so
+/// that at a 5% strain the elastic, weight and damping forces are of one order and central
+/// differences in each parameter stay above round-off.
+VecX shellParams() { return (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished(); }
+/// Properties bound to p = shellParams() when `bound`, else constants of those values.
+std::shared_ptr<ShellProperties> shellProps(bool bound) {
   auto pr = std::make_shared<ShellProperties>();
-  const VecX v = (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished();
+  const VecX v = shellParams();
   Quantity* q[5] = {&pr->E, &pr->nu, &pr->density, &pr->thickness, &pr->alpha};
-  for (int k = 0; k < 5; ++k) *q[k] = (bound && k < count) ? Quantity{0.0, k} : Quantity{v[k], -1};
+  for (int k = 0; k < 5; ++k) *q[k] = bound ? Quantity{0.0, k} : Quantity{v[k], -1};
   return pr;
 }
-/// A soft sheet (rubber-like) with strong damping, so that at a 5% strain the elastic, weight and
-/// damping forces are of one order and central differences in each parameter stay above round-off.
-VecX shellParams() { return (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished(); }
 
 struct Local {
   VecX p, g;
@@ -111,7 +112,6 @@ TEST(Shell, HingeDerivativesAgainstFiniteDifferencesAndAD) {
     for (const bool flatRest : {false, true}) {
       SCOPED_TRACE("rest fold " + std::to_string(fold) + (flatRest ? " flat rest" : ""));
       const VecX X = hingeRest(fold);
-      ShellHinge h("h", {0, 1, 2, 3}, shellProps(true, 2), X, flatRest);
       // thickness is a parameter too: E -> 0, nu -> 1, thickness -> 2
       auto pr = shellProps(false);
       pr->E = {0.0, 0};
@@ -562,5 +562,33 @@ TEST(Shell, UnstructuredGmshPlateFrequencies) {
       EXPECT_EQ(a.tangent, m.n);
       for (int k = 0; k < 3; ++k) EXPECT_NEAR(a.modes[k].omega(), w[k], 1e-8 * w[k]) << "mode " << k + 1;
     }
+  }
+}
+
+// rest_shape read from a scene (tests/scenes/shell/folded.msh: two triangles folded about their
+// shared edge, the wing tip a Physical Point "apex"): `initial` starts unstressed, `flat`
+// starts with the hinge's energy D/2 |e|^2/(A1 + A2) theta0^2, theta0 the angle between the
+// triangles' normals computed here from the mesh coordinates.
+TEST(Shell, SceneRestShapeInitialOrFlat) {
+  const Eigen::Vector3d x0(0, 0, 0), x1(1, 0, 0), x2(0.5, 1, 0), x3(0.5, -0.5, 0.8);
+  const Eigen::Vector3d n1 = (x1 - x0).cross(x2 - x0), n2 = (x3 - x0).cross(x1 - x0);
+  const double theta0 = std::acos(n1.normalized().dot(n2.normalized()));
+  const double w = 1.0 / (0.5 * n1.norm() + 0.5 * n2.norm());  // |e|^2 = 1 m^2
+  const double E0 = 1.0e9, nu = 0.3, t = 0.002, D = E0 * t * t * t / (12 * (1 - nu * nu));
+  for (const bool flat : {false, true}) {
+    std::ostringstream text;
+    text << "dimension: 3\nelements:\n  - {name: sheet, type: shell, mesh: folded.msh, group: sheet, E: " << E0
+         << ", nu: " << nu << ", density: 1000, thickness: " << t << (flat ? ", rest_shape: flat" : "")
+         << "}\nparameters:\n  - {name: t, of: sheet, property: thickness}\n"
+            "integrator: {type: trapezoidal, t_end: 0.01, dt: 0.001}\n";
+    const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+    const Model& m = *sc.model;
+    ASSERT_EQ(m.nodes.size(), 4u);
+    ASSERT_GE(m.nodeIndex("apex"), 0);
+    EXPECT_LT((m.nodes[m.nodeIndex("apex")].position - x3).norm(), 1e-15);
+    Assembler as(m);
+    const VecX p = m.nominalParameters();
+    const double U = as.potentialEnergy(m.initialPositions(), p);
+    EXPECT_NEAR(U, flat ? 0.5 * D * w * theta0 * theta0 : 0.0, 1e-12 * D) << (flat ? "flat" : "initial");
   }
 }
