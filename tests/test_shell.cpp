@@ -21,6 +21,8 @@
 #include "elements/ShellHinge.hpp"
 #include "elements/ShellMesh.hpp"
 #include "elements/ShellTriangle.hpp"
+#include "integrators/FixedStep.hpp"
+#include "integrators/InitialState.hpp"
 #include "app/Run.hpp"
 #include "scene/Scene.hpp"
 
@@ -591,4 +593,68 @@ TEST(Shell, SceneRestShapeInitialOrFlat) {
     const double U = as.potentialEnergy(m.initialPositions(), p);
     EXPECT_NEAR(U, flat ? 0.5 * D * w * theta0 * theta0 : 0.0, 1e-12 * D) << (flat ? "flat" : "initial");
   }
+}
+
+// Free flight (no gravity, no supports) of the folded sheet of folded.msh with rest_shape: flat,
+// so that its hinge springs open and flaps (theta0 = 1.1 rad of stored bending) while the sheet
+// translates and tumbles: the trapezoidal rule conserves linear momentum to round-off (internal
+// forces sum to zero) and energy to O(dt^2) (halving dt divides the largest deviation by 3..5);
+// angular momentum to O(dt^2) as well (the scheme does not conserve it).
+namespace {
+struct ShellFlight {
+  double E0 = 0, dE = 0, dP = 0, L0 = 0, dL = 0;
+};
+ShellFlight flyFoldedSheet(double dt) {
+  std::ostringstream text;
+  text << "dimension: 3\nelements:\n  - {name: sheet, type: shell, mesh: folded.msh, group: sheet, E: 1.0e6, nu: 0.3,"
+          " density: 1000, thickness: 0.05, rest_shape: flat, velocity: [0.3, -0.1, 0.2], angular_velocity: [0.5, -1, 2],"
+          " center: [0.5, 0.2, 0.2]}\nintegrator: {type: trapezoidal, t_end: 2, dt: "
+       << dt << ", frame_interval: " << dt << "}\n";
+  const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const VecX p = m.nominalParameters();
+  StateWithSens start = initialState(as, p);
+  start.dp.clear();
+  test::Recorder rec;
+  integrateFixedStep(as, p, start, sc.integrator, rec);
+  const SpMat M = as.mass(p);
+  ShellFlight f;
+  Eigen::Vector3d P0, L0v;
+  for (size_t k = 0; k < rec.frames.size(); ++k) {
+    const auto& fr = rec.frames[k];
+    const VecX Mv = M * fr.x.v;
+    const double E = 0.5 * fr.x.v.dot(Mv) + as.potentialEnergy(fr.x.q, p);
+    Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      const int d = m.dof(static_cast<int>(i), 0);
+      P += Mv.segment<3>(d);
+      L += Eigen::Vector3d(fr.x.q.segment<3>(d)).cross(Eigen::Vector3d(Mv.segment<3>(d)));
+    }
+    if (k == 0) {
+      f.E0 = E;
+      P0 = P;
+      L0v = L;
+      f.L0 = L.norm();
+    }
+    f.dE = std::max(f.dE, std::abs(E - f.E0));
+    f.dP = std::max(f.dP, (P - P0).norm() / P0.norm());
+    f.dL = std::max(f.dL, (L - L0v).norm());
+  }
+  return f;
+}
+}  // namespace
+
+TEST(Shell, FreeFlightConservesMomentumAndEnergyToSecondOrder) {
+  const ShellFlight a = flyFoldedSheet(0.01), b = flyFoldedSheet(0.005);
+  std::printf("E0 %.6e J, |L0| %.6e; dt 0.01: max |dE| %.3e J, |dP|/|P0| %.2e, |dL| %.3e; dt 0.005: %.3e, %.2e, %.3e; "
+              "energy ratio %.2f, angular-momentum ratio %.2f\n",
+              a.E0, a.L0, a.dE, a.dP, a.dL, b.dE, b.dP, b.dL, a.dE / b.dE, a.dL / b.dL);
+  EXPECT_LT(a.dP, 1e-11);
+  EXPECT_LT(b.dP, 1e-11);
+  EXPECT_GT(a.dE / b.dE, 3.0);
+  EXPECT_LT(a.dE / b.dE, 5.0);
+  EXPECT_LT(a.dE, 1e-2 * a.E0);
+  EXPECT_GT(a.dL / b.dL, 3.0);
+  EXPECT_LT(a.dL / b.dL, 5.0);
 }
