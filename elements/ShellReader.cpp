@@ -66,7 +66,8 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     r.fail(meshKey, path + ".mesh", std::string(e.what()) + "; the node numbers are Gmsh node tags");
   }
   ctx.bindAll(name, props->properties());
-  // Not a PIM body (ctx.bodies) yet: rigidizing a shell's node cloud is not implemented.
+  // A PIM body: its cloud is all its mesh nodes (a flat shell's is a planar cloud in 3D).
+  ctx.bodies[name] = {ids, nullptr};
 }
 
 }  // namespace flexsens

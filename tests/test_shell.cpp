@@ -24,6 +24,8 @@
 #include "integrators/FixedStep.hpp"
 #include "integrators/InitialState.hpp"
 #include "integrators/Static.hpp"
+#include "pim/MassProperties.hpp"
+#include "pim/Pim.hpp"
 #include "app/Run.hpp"
 #include "scene/Scene.hpp"
 
@@ -746,4 +748,40 @@ TEST(Shell, ShiftedRowPlateComplianceMatchesNavier) {
   }
   for (double e : err) EXPECT_LT(e, 0.0);
   EXPECT_GT(err.back(), -0.04);
+}
+
+// PIM of a shell: rigidizing the free square plate (its mesh nodes a planar cloud in 3D) leaves
+// its 6 rigid motions (d - m_r = 6); the F-R twin's mass properties are the plate's exact
+// integrals: m = rho t a^2, centre (a/2, a/2, 0), inertia about the centre m a^2/12 (x, y) and
+// m a^2/6 (z) (thin plate; the consistent mass of straight triangles integrates these exactly).
+TEST(Shell, PimRigidizedPlateLeavesSixMotionsAndTwinHasThePlateIntegrals) {
+  const std::string text =
+      "dimension: 3\nelements:\n  - {name: plate, type: shell, mesh: square.geo, group: plate, size: 0.25, E: 2.1e11,"
+      " nu: 0.3, density: 7800, thickness: 0.01}\nparameters:\n  - {name: t, of: plate, property: thickness}\n"
+      "cases:\n  - {name: F1, parameters: [t], rigidize: [plate]}\nintegrator: {type: trapezoidal, t_end: 0.001, dt: 0.001}\n";
+  const std::string file = test::sourceDir() + "/tests/scenes/shell/scene.yaml";
+  {
+    const Scene sc = readSceneText(text, file, "F1");
+    const Model& m = *sc.model;
+    Assembler as(m);
+    const PimReport r = pimCounts(as, *sc.pimCase, m.initialPositions(), m.nominalParameters());
+    EXPECT_EQ(r.m, 0);
+    EXPECT_EQ(r.d, m.n);
+    EXPECT_EQ(r.lambdaGenerated, m.n - 6);
+    EXPECT_EQ(r.lambdaDropped, 0);
+    EXPECT_EQ(r.ds, 6);
+  }
+  const Scene sc = readSceneText(text, file);
+  const Model& m = *sc.model;
+  std::vector<int> all(m.nodes.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  const MassProperties mp = rigidMassProperties(m, all, m.nominalParameters());
+  const double mass = 7800 * 0.01 * kA * kA;
+  EXPECT_NEAR(mp.mass, mass, 1e-12 * mass);
+  EXPECT_NEAR(mp.centre[0], kA / 2, 1e-12);
+  EXPECT_NEAR(mp.centre[1], kA / 2, 1e-12);
+  EXPECT_NEAR(mp.centre[2], 0.0, 1e-12);
+  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+  I.diagonal() << mass * kA * kA / 12, mass * kA * kA / 12, mass * kA * kA / 6;
+  EXPECT_LT((mp.inertia - I).norm(), 1e-12 * I.norm());
 }
