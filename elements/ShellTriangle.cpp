@@ -36,6 +36,8 @@ ShellTriangle::ShellTriangle(std::string name, std::vector<int> nodes, std::shar
   G_.row(1) = Di.row(0);
   G_.row(2) = Di.row(1);
   G_.row(0) = -(Di.row(0) + Di.row(1));
+  basis_.resize(3, 2);
+  basis_ << t1, t2;
 }
 
 void ShellTriangle::checkDim(const LocalState& s) const {
@@ -46,6 +48,22 @@ MatX ShellTriangle::strain(const VecX& x) const {
   MatX F = MatX::Zero(3, 2);
   for (int i = 0; i < 3; ++i) F += x.segment<3>(3 * i) * G_.row(i);
   return 0.5 * (F.transpose() * F - MatX::Identity(2, 2));
+}
+
+void ShellTriangle::membraneStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const {
+  checkDim(s);
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  MatX F = MatX::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
+  const MatX C = F.transpose() * F, I = MatX::Identity(2, 2);
+  const MatX E2 = 0.5 * (C - I), S2 = lam * E2.trace() * I + 2.0 * mu * E2;
+  E = basis_ * E2 * basis_.transpose();
+  S = basis_ * S2 * basis_.transpose();
+  sigma = F * S2 * F.transpose() / std::sqrt(C.determinant());
+  const MatX dev = sigma - sigma.trace() / 3.0 * MatX::Identity(3, 3);
+  vonMises = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
 }
 
 // ------------------------------------------------------------------ value templates

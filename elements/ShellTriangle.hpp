@@ -39,6 +39,11 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   double restArea() const { return A_; }  ///< [m^2]
   /// Green-Lagrange membrane strain (2x2, in the rest basis t1, t2) at positions x (9) [-].
   MatX strain(const VecX& x) const;
+  /// For output, at s.x and the nominal values s.p: Green-Lagrange strain E and second
+  /// Piola-Kirchhoff stress S as 3x3 tensors in the scene's axes (the rest plane's 2x2 ones
+  /// rotated by the rest basis), the membrane Cauchy stress sigma = F S F^T / J (J the area
+  /// ratio, thickness change ignored) [Pa] and its von Mises stress (plane stress) [Pa].
+  void membraneStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const;
 
  private:
   friend class KernelElement<ShellTriangle>;
@@ -55,6 +60,7 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   std::shared_ptr<ShellProperties> props_;
   double A_;      ///< rest area [m^2]
   MatX G_;        ///< dN_i/dX in the rest basis, 3 x 2 [1/m]
+  MatX basis_;    ///< the rest basis (t1, t2) in the scene's axes, 3 x 2
 };
 
 }  // namespace flexsens

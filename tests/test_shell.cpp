@@ -14,6 +14,14 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkNew.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include "TestModels.hpp"
 #include "app/Modes.hpp"
@@ -276,6 +284,28 @@ TEST(Shell, UniformStretchGivesTheMembraneForceExactly) {
     VecX expected(12);
     expected << f1 + f2, -f1 + f2, -f1 - f2, f1 - f2;
     EXPECT_LT((Q - expected).lpNorm<Eigen::Infinity>(), 1e-10 * expected.lpNorm<Eigen::Infinity>());
+    // output stresses: E = E11 d1 d1^T + E22 d2 d2^T, S likewise, Cauchy sigma = F S F^T / J
+    // = (l1^2 S11 d1 d1^T + l2^2 S22 d2 d2^T) / (l1 l2), von Mises sqrt(s1^2 - s1 s2 + s2^2)
+    const double s1 = l1 * S11 / l2, s2 = l2 * S22 / l1;
+    const MatX Ee = E11 * d1 * d1.transpose() + E22 * d2 * d2.transpose();
+    const MatX Se = S11 * d1 * d1.transpose() + S22 * d2 * d2.transpose();
+    const MatX sige = s1 * d1 * d1.transpose() + s2 * d2 * d2.transpose();
+    for (const auto& el : els) {
+      const auto* tri = dynamic_cast<const ShellTriangle*>(el.get());
+      if (!tri) continue;
+      LocalState ls;
+      ls.dim = 3;
+      ls.p = &p;
+      ls.x.resize(9);
+      for (int j = 0; j < 3; ++j) ls.x.segment<3>(3 * j) = x.segment<3>(3 * tri->nodes()[j]);
+      MatX E, S, sig;
+      double vm;
+      tri->membraneStress(ls, E, S, sig, vm);
+      EXPECT_LT((E - Ee).norm(), 1e-13);
+      EXPECT_LT((S - Se).norm(), 1e-10 * Se.norm());
+      EXPECT_LT((sig - sige).norm(), 1e-10 * sige.norm());
+      EXPECT_NEAR(vm, std::sqrt(s1 * s1 - s1 * s2 + s2 * s2), 1e-10 * std::abs(s1));
+    }
   }
 }
 
@@ -784,4 +814,44 @@ TEST(Shell, PimRigidizedPlateLeavesSixMotionsAndTwinHasThePlateIntegrals) {
   Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
   I.diagonal() << mass * kA * kA / 12, mass * kA * kA / 12, mass * kA * kA / 6;
   EXPECT_LT((mp.inertia - I).norm(), 1e-12 * I.norm());
+}
+
+// Output: `flexsens static` on the simply supported plate under its own weight writes the shell
+// triangles as VTK_TRIANGLE cells (element_kind 8) with finite membrane strain and stresses
+// (their values: UniformStretchGivesTheMembraneForceExactly).
+TEST(Shell, StaticRunWritesTriangleCellsWithMembraneStress) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("flexsens_shell_vtu_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string text = "dimension: 3\ngravity: [0, 0, -9.81]\nelements:\n  - {name: plate, type: shell, mesh: " +
+                           test::sourceDir() + "/tests/scenes/shell/square.geo, group: plate, size: 0.25, E: 2.1e11, nu: 0.3,"
+                           " density: 7800, thickness: 0.01, ground: [edges]}\nstatic: {load_steps: 1}\n";
+  { std::ofstream(dir / "plate.yaml") << text; }
+  const std::string cmd = std::string(FLEXSENS_EXE) + " static " + (dir / "plate.yaml").string() + " --out " +
+                          (dir / "out").string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  fs::path vtu;
+  for (const auto& e : fs::directory_iterator(dir / "out"))
+    if (e.path().extension() == ".vtu") vtu = e.path();
+  ASSERT_FALSE(vtu.empty());
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(vtu.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  const Scene sc = readSceneText(text, (dir / "plate.yaml").string());
+  int tris = 0;
+  for (const auto& e : sc.model->elements) tris += e->kind() == "shell_triangle";
+  ASSERT_EQ(g->GetNumberOfCells(), tris);
+  vtkDataArray* kind = g->GetCellData()->GetArray("element_kind");
+  vtkDataArray* vm = g->GetCellData()->GetArray("von_mises");
+  ASSERT_NE(kind, nullptr);
+  ASSERT_NE(vm, nullptr);
+  ASSERT_NE(g->GetCellData()->GetArray("stress_cauchy"), nullptr);
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) {
+    EXPECT_EQ(g->GetCellType(c), VTK_TRIANGLE);
+    EXPECT_EQ(kind->GetTuple1(c), 8.0);
+    EXPECT_TRUE(std::isfinite(vm->GetTuple1(c)));
+  }
+  fs::remove_all(dir);
 }

@@ -1,5 +1,6 @@
 #include "output/ResultWriter.hpp"
 
+#include "elements/ShellTriangle.hpp"
 #include "elements/Solid.hpp"
 
 #include <vtkCellData.h>
@@ -21,6 +22,7 @@
 #include <cstring>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -229,6 +231,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   vtkNew<vtkIntArray> kind, id;
   kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam, 8 shell triangle
   id->SetName("element_id");
+  std::map<vtkIdType, size_t> shellCells;  // cell -> element, of the shell triangles
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
     const std::string k = el.kind();
@@ -247,6 +250,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
     }
     if (k == "shell_triangle") {  // the shell's surface (its hinges have no cell of their own)
       vtkIdType ids[3] = {el.nodes()[0], el.nodes()[1], el.nodes()[2]};
+      shellCells[grid->GetNumberOfCells()] = e;
       grid->InsertNextCell(VTK_TRIANGLE, 3, ids);
       kind->InsertNextValue(8);
       id->InsertNextValue(static_cast<int>(e));
@@ -256,7 +260,8 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   // Green-Lagrange strain, the second Piola-Kirchhoff and Cauchy stresses (3x3 tensors in the
   // scene's axes, planar ones padded with zeros) and the von Mises stress at each cell's
   // centroid, at the nominal parameters; NaN on the other cells. Only when the model has one.
-  bool anySolid = false;
+  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses.
+  bool anySolid = !shellCells.empty();
   for (const auto& el : m.elements) anySolid = anySolid || dynamic_cast<const Solid*>(el.get());
   vtkNew<vtkDoubleArray> strain, pk2, cauchy, mises;
   if (anySolid) {
@@ -268,7 +273,26 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
     mises->SetName("von_mises");
     const double nan = std::nan("");
     const std::array<double, 9> nans{nan, nan, nan, nan, nan, nan, nan, nan, nan};
+    const VecX pn = m.nominalParameters();
     for (vtkIdType c = 0; c < before; ++c) {
+      const auto sc = shellCells.find(c);
+      if (sc != shellCells.end()) {
+        const auto& tri = static_cast<const ShellTriangle&>(*m.elements[sc->second]);
+        LocalState ls;
+        ls.dim = 3;
+        ls.p = &pn;
+        ls.x.resize(9);
+        for (int j = 0; j < 3; ++j)
+          for (int cc = 0; cc < 3; ++cc) ls.x[3 * j + cc] = m.coordinate(s.x.q, tri.nodes()[j], cc);
+        MatX E, S, sig;
+        double vm;
+        tri.membraneStress(ls, E, S, sig, vm);
+        strain->InsertNextTuple(E.data());  // symmetric: column-major = row-major
+        pk2->InsertNextTuple(S.data());
+        cauchy->InsertNextTuple(sig.data());
+        mises->InsertNextValue(vm);
+        continue;
+      }
       strain->InsertNextTuple(nans.data());
       pk2->InsertNextTuple(nans.data());
       cauchy->InsertNextTuple(nans.data());
