@@ -61,17 +61,18 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
   for (size_t j = 0; j < ids.size(); ++j) {
     Node& nd = m.nodes[ids[j]];
     ctx.slopeUsers.insert(ids[j]);
-    if (nd.hasSlope()) {  // given in the scene, or by an earlier ancf_beam / ancf_cable
-      if (nd.gradients(3) == 3) continue;
+    if (nd.hasSlope() && nd.gradients(3) != 3) {  // one slope, given or from an ancf_cable
       const auto given = ctx.givenSlopes.find(ids[j]);
       r.fail(given != ctx.givenSlopes.end() ? given->second.node : nodeKey(j),
              given != ctx.givenSlopes.end() ? given->second.path : nodePath(j),
              "node '" + nd.name + "' carries one slope (ancf_cable); an ancf_beam node takes gradients (r_x, r_y, r_z)");
     }
+    if (ctx.givenSlopes.count(ids[j])) continue;
     const Eigen::Vector3d t = j == 0 ? dir[0] : (j + 1 == ids.size() ? dir[j - 1] : Eigen::Vector3d(dir[j - 1] + dir[j]));
     if (!(t.norm() > 1e-12))
       r.fail(nodeKey(j), nodePath(j), "the chain folds back at this node: give the node gradients");
     const Eigen::Vector3d tx = t.normalized();
+    if (ctx.slopeAlong(ids[j], name, tx, nodeKey(j), nodePath(j))) continue;
     Eigen::Vector3d y = yAxis;
     if (!el["y_axis"]) {
       int least = 0;
@@ -88,7 +89,7 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
   }
   auto sec = readSection(r, el, path);
   ctx.bindAll(name, sec->properties());
-  ctx.bodies[name] = {ids, nullptr};
+  ctx.bodies[name] = {ids, nullptr, true};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     ctx.slopeLinks.push_back({ids[j], ids[j + 1]});
     m.elements.push_back(std::make_unique<AncfBeam3D>(name + ".element" + std::to_string(j),

@@ -41,10 +41,13 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
              given != ctx.givenSlopes.end() ? given->second.path : nodePath(j),
              "node '" + nd.name + "' carries the three gradients of an ancf_beam; an ancf_cable node has one slope");
     }
-    if (nd.hasSlope()) continue;  // given in the scene, or by an earlier ancf_cable
+    const bool given = ctx.givenSlopes.count(ids[j]) > 0;
     VecX t = j == 0 ? dir[0] : (j + 1 == ids.size() ? dir[j - 1] : VecX(dir[j - 1] + dir[j]));
-    if (!(t.norm() > 1e-12))
+    if (!given && !(t.norm() > 1e-12))
       r.fail(nodeKey(j), nodePath(j), "the chain folds back at this node: give the node a slope");
+    Eigen::Vector3d t3 = Eigen::Vector3d::Zero();
+    if (!given) t3.head(d) = t.normalized();
+    if (given || ctx.slopeAlong(ids[j], name, t3, nodeKey(j), nodePath(j))) continue;
     nd.slope = t.normalized();
   }
   // axial_points: 3 (default) or 2 (locking-free for thin beams, but with a zero-energy mode
@@ -57,7 +60,7 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
   }
   auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
-  ctx.bodies[name] = {ids, nullptr};
+  ctx.bodies[name] = {ids, nullptr, true};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     const Node &a = m.nodes[ids[j]], &b = m.nodes[ids[j + 1]];
     VecX rest(4 * d);

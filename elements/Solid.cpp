@@ -255,27 +255,65 @@ double Solid::potential(const LocalState& s) const {
   return U;
 }
 
-void Solid::centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const {
+template <class T>
+void Solid::centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,
+                            MatT<T>& dev) const {
+  using std::log;
   const int d = dim_;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
+  const T mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
   const MatX& G = centroidG_;
-  MatX F = MatX::Zero(d, d);
-  for (int i = 0; i < n_; ++i) F += s.x.segment(i * d, d) * G.row(i);
-  const MatX I = MatX::Identity(d, d);
-  E = 0.5 * (F.transpose() * F - I);
-  S = props_->law.stress<double>(E, mu, lam, "solid element " + name());
-  const double J = F.determinant();
+  MatT<T> F = MatT<T>::Zero(d, d);
+  for (int i = 0; i < n_; ++i)
+    for (int r = 0; r < d; ++r)
+      for (int c = 0; c < d; ++c) F(r, c) += x[i * d + r] * G(i, c);
+  E = 0.5 * (F.transpose() * F - MatT<T>::Identity(d, d));
+  S = props_->law.stress<T>(E, mu, lam, "solid element " + name());
+  const T J = material::det<T>(F);
   sigma = F * S * F.transpose() / J;
-  double s33 = 0.0;  // out-of-plane Cauchy stress: plane strain (F33 = 1)
+  T s33 = T(0.0);  // out-of-plane Cauchy stress: plane strain (F33 = 1)
   if (props_->law.planar == PlanarState::PlaneStrain)
-    s33 = (props_->law.law == Law::SaintVenantKirchhoff ? lam * E.trace() : lam * std::log(J)) / J;
-  MatX full = MatX::Zero(3, 3);
+    s33 = (props_->law.law == Law::SaintVenantKirchhoff ? T(lam * E.trace()) : T(lam * log(J))) / J;
+  MatT<T> full = MatT<T>::Zero(3, 3);
   full.topLeftCorner(d, d) = sigma;
   if (d == 2) full(2, 2) = s33;
-  const MatX dev = full - full.trace() / 3.0 * MatX::Identity(3, 3);
+  dev = full - (full.trace() / 3.0) * MatT<T>::Identity(3, 3);
+}
+
+void Solid::centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const {
+  const VecX& p = *s.p;
+  MatX dev;
+  centroidStressT<double>(s.x.head(dim_ * n_), props_->E.value(p), props_->nu.value(p), E, S, sigma, dev);
   vonMises = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+}
+
+void Solid::centroidStressDerivative(const LocalState& s, const VecX& dx, int k, MatX& dE, MatX& dS, MatX& dsigma,
+                                     double& dVonMises) const {
+  using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, 1, 1>>;
+  const VecX& p = *s.p;
+  auto seeded = [](double v, double dv) { return AD(v, Eigen::Matrix<double, 1, 1>::Constant(dv)); };
+  VecT<AD> x(dim_ * n_);
+  for (int i = 0; i < dim_ * n_; ++i) x[i] = seeded(s.x[i], dx[i]);
+  const AD E0 = seeded(props_->E.value(p), props_->E.boundTo(k) ? 1.0 : 0.0);
+  const AD nu = seeded(props_->nu.value(p), props_->nu.boundTo(k) ? 1.0 : 0.0);
+  MatT<AD> E, S, sigma, dev;
+  centroidStressT<AD>(x, E0, nu, E, S, sigma, dev);
+  auto derivative = [](const MatT<AD>& A) {
+    MatX D(A.rows(), A.cols());
+    for (int r = 0; r < A.rows(); ++r)
+      for (int c = 0; c < A.cols(); ++c) D(r, c) = A(r, c).derivatives()[0];
+    return D;
+  };
+  dE = derivative(E);
+  dS = derivative(S);
+  dsigma = derivative(sigma);
+  MatX devValue(3, 3);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) devValue(r, c) = dev(r, c).value();
+  const MatX ddev = derivative(dev);
+  const double vm = std::sqrt(1.5 * (devValue.array() * devValue.array()).sum());
+  // d sqrt(1.5 dev:dev) = 1.5 dev:ddev / vm
+  dVonMises = vm > 0.0 ? 1.5 * (devValue.array() * ddev.array()).sum() / vm
+                       : std::sqrt(1.5 * (ddev.array() * ddev.array()).sum());
 }
 
 template class KernelElement<Solid>;

@@ -65,6 +65,12 @@ class Solid : public KernelElement<Solid> {
   /// Cauchy stress sigma [Pa] (dim x dim, elastic part) and von Mises stress [Pa] (with the
   /// out-of-plane normal stress of plane strain).
   void centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const;
+  /// Their derivatives with respect to parameter k along dx = d x/dp_k of the element's node
+  /// positions (the run's dq/dp; 0 for ground nodes): the chain rule through F plus the
+  /// explicit dependence on E and nu, by forward AD of the same template. von Mises at zero
+  /// stress has no derivative; there its one-sided directional one, |d dev| sqrt(3/2).
+  void centroidStressDerivative(const LocalState& s, const VecX& dx, int k, MatX& dE, MatX& dS, MatX& dsigma,
+                                double& dVonMises) const;
 
  private:
   friend class KernelElement<Solid>;
@@ -78,6 +84,10 @@ class Solid : public KernelElement<Solid> {
   double lambdaRest(double mu, double lam) const;                 ///< lambda of C0
   /// Neo-Hookean: NumericalError naming the element when det F <= 0 (det C cannot tell).
   void checkOrientation(double detF) const;
+  /// centroidStress for any scalar: dev returns the deviatoric Cauchy stress (3 x 3).
+  template <class T>
+  void centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,
+                       MatT<T>& dev) const;
 
   std::vector<const Quantity*> kernelProperties() const {
     return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha, &props_->beta};

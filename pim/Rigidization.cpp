@@ -142,7 +142,7 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   // ancf_beam bodies: every node carries r_x, r_y, r_z (a body mixing them with other nodes
   // is not supported: its frame would be the gradients of some nodes only).
   int beamNodes = 0;
-  for (int i : nodes) beamNodes += m.nodes[i].gradients(dim) == 3;
+  for (int i : nodes) beamNodes += opt.slopes && m.nodes[i].gradients(dim) == 3;
   if (beamNodes == static_cast<int>(nodes.size())) {
     rigidizeBeamBody(R, name, nodes, m, X, where);
     return R;
@@ -181,7 +181,7 @@ Rigidization rigidize(const std::string& name, const std::vector<int>& nodes, co
   }
   // Free slopes (ANCF nodes), when every basic point carries a slope too (an ANCF body; a
   // node of another kind among them leaves the slopes free: pinned to the body).
-  bool basicSlopes = true;
+  bool basicSlopes = opt.slopes;
   for (int b : basic) basicSlopes = basicSlopes && m.nodes[nodes[b]].hasSlope();
   for (size_t i = 0; i < nodes.size() && basicSlopes; ++i) {
     const Node& nd = m.nodes[nodes[i]];

@@ -73,6 +73,11 @@ struct RigidizeOptions {
   /// on an earlier rigid body, as the two axis points a revolute joint shares); the
   /// generator then omits that distance, which would be a redundant constraint.
   std::function<bool(int, int)> linked;
+  /// Rigidize the nodes' free slopes too (an ANCF body: each slope a direction fixed in the
+  /// body). Off for bodies whose elements carry no slopes (a positions-only beam, a diagonal,
+  /// a rigid body's attached points): a slope there belongs to another body's ANCF chain
+  /// that is only pinned to this one.
+  bool slopes = false;
 };
 
 /// Rigidizes the cloud `nodes` at positions X (one column per model node). `pairLength`,

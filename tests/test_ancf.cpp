@@ -9,6 +9,8 @@
 #include <memory>
 
 #include "TestModels.hpp"
+#include "app/Modes.hpp"
+#include "app/Run.hpp"
 #include "core/Assembler.hpp"
 #include "elements/AncfCable.hpp"
 #include "elements/PointForce.hpp"
@@ -340,6 +342,30 @@ TEST(AncfCantilever, FrequenciesConvergeAtFourthOrder) {
   EXPECT_LT(err[2][2], 1e-4);  // omega_3 at N = 16
 }
 
+// `flexsens modes` (app/Modes: K and M on the constraints' tangent space, element states with
+// their slopes) on the same cantilever at N = 8: its three lowest modes are the bending modes,
+// equal to the direct transverse eigenproblem above (1e-9) and to beta_n L within the O(h^4)
+// error of N = 8. (Modes once built element states without slopes and threw on ANCF models.)
+TEST(AncfCantilever, ModesReportTheBendingFrequencies) {
+  const Cantilever c = buildCantilever(8);
+  Assembler as(*c.model);
+  const VecX p = VecX::Zero(1);
+  const ModalAnalysis a = analyzeModes(as, consistentState(as, p), p, 3);
+  MatX K, M;
+  transverse(c, K, M);
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatX> es(K, M);
+  ASSERT_EQ(es.info(), Eigen::Success);
+  const double w0 = std::sqrt(c.EI() / (c.rhoA() * std::pow(kL, 4)));
+  for (int j = 0; j < 3; ++j) {
+    const double ref = kBetaL[j] * kBetaL[j] * w0;
+    std::printf("modes: omega_%d = %.8f rad/s, direct %.8f, beta_n L %.8f\n", j + 1, a.modes[j].omega(),
+                std::sqrt(es.eigenvalues()[j]), ref);
+    EXPECT_FALSE(a.modes[j].rigid);
+    EXPECT_NEAR(a.modes[j].omega() / std::sqrt(es.eigenvalues()[j]), 1.0, 1e-9);
+    EXPECT_NEAR(a.modes[j].omega() / ref, 1.0, 2e-3);
+  }
+}
+
 // Large deflection under a dead tip load P = alpha EI / L^2: the elastica table at N = 8.
 // Observed relative errors (2 axial, 3 bending points): rotation <= 2.4e-5, v/L <= 2.1e-5,
 // u/L <= 8.6e-5 for alpha 1..5; at alpha = 0.2, u/L is off by 4.6e-7 absolute (1.7e-4
@@ -467,7 +493,9 @@ TEST(AncfRigidization, LeavesTheRigidMotions) {
     for (int i = 0; i < 4; ++i) all.push_back(i);
     MatX X(dim, 4);
     for (int i = 0; i < 4; ++i) X.col(i) = m.nodes[i].position;
-    Rigidization R = rigidize("c", all, m, X, "test");
+    RigidizeOptions withSlopes;
+    withSlopes.slopes = true;  // an ANCF body
+    Rigidization R = rigidize("c", all, m, X, "test", nullptr, withSlopes);
     int slopeRows = 0;
     for (const auto& c : R.constraints) slopeRows += c->kind() == "attached_slope" ? c->rows() : 0;
     EXPECT_EQ(slopeRows, 4 * dim);

@@ -444,7 +444,9 @@ TEST(AncfBeam3DRigidization, LeavesTheRigidMotions) {
     const std::vector<int> all = {0, 1, 2, 3};
     MatX X(3, 4);
     for (int i = 0; i < 4; ++i) X.col(i) = m.nodes[i].position;
-    Rigidization R = rigidize("b", all, m, X, "test");
+    RigidizeOptions withSlopes;
+    withSlopes.slopes = true;  // an ANCF body
+    Rigidization R = rigidize("b", all, m, X, "test", nullptr, withSlopes);
     Assembler as(m, &R.constraints);
     const VecX q = m.initialPositions(), p = m.nominalParameters();
     EXPECT_LT(as.phi(q, p).lpNorm<Eigen::Infinity>(), 1e-12);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "TestModels.hpp"
 #include "app/FiniteDifferences.hpp"
@@ -84,6 +85,52 @@ TEST(Satellite, NonFlatPanelsNeedExactlyThePapersSevenSdofs) {
     const VecX r = s->as->phiQTimes(s->start.x.q, s->p, s->start.dp[0].q) + s->as->phiParamDerivative(s->start.x.q, s->p, 0);
     EXPECT_LT(r.lpNorm<Eigen::Infinity>(), 1e-9) << name;
     EXPECT_GT((m.nodes[m.nodeIndex("B3")].position - m.nodes[m.nodeIndex("B7")].position).norm(), 0.04);
+  }
+}
+
+// The ANCF version (satellite_ancf.yaml: panel beams and springs as ANCF cables, the pins
+// between chains as separate nodes with spherical joints) next to the positions-only one:
+// the same d - m_r and SDOFs, and q_p0, v_p0 equal on every shared coordinate (both are the
+// rigid-body kinematics of the same rigidized panels, springs and cube); the slopes carry the rest.
+TEST(Satellite, AncfVersionHasThePositionsOnlyCountsAndInitialSensitivities) {
+  for (const char* name : {"SAT1", "SAT2"}) {
+    auto a = load(name, "satellite_ancf.yaml"), b = load(name);
+    EXPECT_EQ(a->pim.d - a->pim.mr, b->pim.d - b->pim.mr) << name;
+    EXPECT_EQ(a->pim.ds, b->pim.ds) << name;
+    const Model &ma = *a->sc.model, &mb = *b->sc.model;
+    const double scale = std::max(1.0, b->start.dp[0].q.lpNorm<Eigen::Infinity>());
+    std::map<std::string, int> inA;
+    for (int j = 0; j < ma.n; ++j) inA[ma.coordinateLabel(j)] = j;
+    int shared = 0;
+    double worst = 0;
+    for (int i = 0; i < mb.n; ++i) {
+      const auto it = inA.find(mb.coordinateLabel(i));
+      if (it == inA.end()) continue;
+      worst = std::max({worst, std::abs(a->start.dp[0].q[it->second] - b->start.dp[0].q[i]),
+                        std::abs(a->start.dp[0].v[it->second] - b->start.dp[0].v[i])});
+      ++shared;
+    }
+    std::printf("  %s: n = %d (ANCF) vs %d, %d shared coordinates, max |q_p0, v_p0 difference| = %.2e\n", name,
+                ma.n, mb.n, shared, worst);
+    EXPECT_EQ(shared, mb.n) << name;
+    EXPECT_LT(worst, 1e-10 * scale) << name;
+  }
+}
+
+// BDF-1's discrete sensitivities of the ANCF satellite are the exact derivative of its
+// discrete solution: central differences of the same scheme, SAT2, t = 0.5 and 1 s, 1e-6.
+TEST(Satellite, AncfBdf1SensitivitiesMatchCentralDifferences) {
+  auto s = load("SAT2", "satellite_ancf.yaml");
+  IntegratorSettings set = bdf1(1.0);
+  set.frameInterval = 0.5;
+  Recorder dd, nd;
+  const auto st = integrate(*s->as, s->p, s->start, set, dd);
+  EXPECT_LT(st.maxConstraintViolation, 1e-10);
+  integrateFiniteDifferences(*s->as, s->p, s->start, s->sc.pimCase.get(), set, {"central", 1e-5}, nd);
+  for (double t : {0.5, 1.0}) {
+    const double e = relErr(dd.at(t).dp[0].q, nd.at(t).dp[0].q, 1e-12);
+    std::printf("  ANCF SAT2 t = %.1f s: max relative |dd - nd| = %.2e\n", t, e);
+    EXPECT_LT(e, 1e-6) << "t = " << t;
   }
 }
 

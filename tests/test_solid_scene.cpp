@@ -9,6 +9,7 @@
 #include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkNew.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -194,5 +195,71 @@ TEST(SolidScene, StaticRunWritesRealCellTypesAndStress) {
     ++checked;
   }
   EXPECT_GT(checked, 10);
+  fs::remove_all(dir);
+}
+
+// d(stress)/dp cell data (Solid::centroidStressDerivative through the run's dq/dp) against
+// central differences of whole `flexsens static` runs (five points, step 1e-3 p): a cantilever plate
+// (quadratic triangles, nu = 0.3) bent by a tip load to a deflection of ~5% of its length (so
+// the stresses depend on E through the geometry too), parameters E, nu and thickness; every
+// cell's Cauchy stress and von Mises stress, relative to the largest of each over the cells.
+TEST(SolidScene, StressSensitivitiesMatchCentralDifferencesOfRuns) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("flexsens_solid_dstress_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string names[] = {"E", "nu", "thickness"};
+  const double nominal[] = {kE, 0.3, kT};
+  auto run = [&](int which, double factor, const std::string& tag) {
+    double v[3] = {nominal[0], nominal[1], nominal[2]};
+    if (which >= 0) v[which] *= factor;
+    std::ostringstream t;
+    t.precision(17);
+    t << "dimension: 2\nelements:\n  - {name: plate, type: solid, mesh: " << dirOf() << "plate.geo, group: plate, "
+      << "size: 0.025, order: 2, E: " << v[0] << ", nu: " << v[1] << ", density: " << kRho << ", thickness: " << v[2]
+      << ", ground: [root], traction: [{group: tip, force: [0, -3000]}]}\n"
+      << "parameters:\n  - {name: E, of: plate, property: E}\n  - {name: nu, of: plate, property: nu}\n"
+      << "  - {name: thickness, of: plate, property: thickness}\nstatic: {load_steps: 1}\n";
+    { std::ofstream(dir / (tag + ".yaml")) << t.str(); }
+    const std::string cmd = std::string(FLEXSENS_EXE) + " static " + (dir / (tag + ".yaml")).string() + " --out " +
+                            (dir / tag).string() + " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << t.str();
+    fs::path vtu;
+    for (const auto& e : fs::directory_iterator(dir / tag))
+      if (e.path().extension() == ".vtu" && (vtu.empty() || e.path() > vtu)) vtu = e.path();  // the last frame
+    auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    reader->SetFileName(vtu.c_str());
+    reader->Update();
+    return reader;
+  };
+  const auto nom = run(-1, 1.0, "nominal");
+  vtkUnstructuredGrid* g0 = nom->GetOutput();
+  // Five-point central differences, relative step 1e-3: truncation O(h^4) ~ 1e-12, and the static
+  // solve's Newton tolerance (~1e-10 of q) enters divided by 12 h only.
+  const double h = 1e-3;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<vtkSmartPointer<vtkXMLUnstructuredGridReader>> at;  // p (1 + j h), j = -2, -1, 1, 2
+    for (int j : {-2, -1, 1, 2}) at.push_back(run(k, 1.0 + j * h, names[k] + std::to_string(j)));
+    for (const std::string base : {"stress_cauchy", "von_mises"}) {
+      vtkDataArray* d = g0->GetCellData()->GetArray(("d" + base + "/d" + names[k]).c_str());
+      ASSERT_NE(d, nullptr) << base << " " << names[k];
+      vtkDataArray* f0 = g0->GetCellData()->GetArray(base.c_str());
+      std::vector<vtkDataArray*> f;
+      for (auto& r : at) f.push_back(r->GetOutput()->GetCellData()->GetArray(base.c_str()));
+      ASSERT_EQ(f[0]->GetNumberOfTuples(), d->GetNumberOfTuples());
+      // The scale: the largest derivative, or the stress over the parameter (dstress/dE is ~0.1 of that).
+      double worst = 0.0, scale = 0.0;
+      for (vtkIdType c = 0; c < d->GetNumberOfTuples(); ++c)
+        for (int j = 0; j < d->GetNumberOfComponents(); ++j) {
+          const double fd = (8.0 * (f[2]->GetComponent(c, j) - f[1]->GetComponent(c, j)) -
+                             (f[3]->GetComponent(c, j) - f[0]->GetComponent(c, j))) / (12.0 * h * nominal[k]);
+          worst = std::max(worst, std::abs(d->GetComponent(c, j) - fd));
+          scale = std::max({scale, std::abs(fd), std::abs(f0->GetComponent(c, j)) / nominal[k]});
+        }
+      std::printf("  d%s/d%s: max |analytic - central difference| = %.2e, scale %.3e\n", base.c_str(), names[k].c_str(),
+                  worst, scale);
+      EXPECT_LT(worst, 1e-6 * scale) << base << " " << names[k];
+    }
+  }
   fs::remove_all(dir);
 }

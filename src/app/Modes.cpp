@@ -53,7 +53,7 @@ std::vector<EnergyShare> energyShares(const Assembler& as, const State& s, const
   double total = 0.0;  // sum of |energies|: an unstable mode's strain is negative
   for (size_t e = 0; e < model.elements.size(); ++e) {
     const Element& el = *model.elements[e];
-    const LocalState ls = as.localState(el.nodes(), s.q, s.v, p);
+    const LocalState ls = as.localState(el, s.q, s.v, p);
     const VecX xe = gather(as.elementDofs(e), x);
     el.forceJacobian(ls, Kq, Kv);
     const double U = -0.5 * xe.dot(Kq * xe);  // K_e = -dQ_e/dq

@@ -106,6 +106,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   // A step starts with the matrix of an earlier step unless that failed lately: after a
   // failure the next `skipReuse` steps start with a fresh matrix, twice as many each time.
   int skipReuse = 0, backoff = 1;
+  // Newton starts from q_n instead of the predictor once a step needed that (see below).
+  bool startAtOld = false;
 
   beginRun(obs, cur);
   as.setTime(cur.x.t);
@@ -124,7 +126,12 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     // generalized-alpha are the schemes for stiff models and start from q_n + h v_n: stiff
     // light parts (the satellite's prestressed springs, node masses ~1e-3 kg, accelerations
     // ~1e6 m/s^2) would put h^2 a_n / 2 metres away, where the Newton matrix is singular.
-    const VecX qPredicted = old.q + h * old.v + (sc.trapezoidal ? 0.5 * h * h : 0.0) * old.a;
+    // Last resort (below): Newton from the other start, q_n itself, when an unresolved fast
+    // mode (ANCF springs' slopes released from a prestressed shape) left a velocity that throws
+    // q_n + h v_n out of Newton's reach. A start that rescued a step becomes the first one tried
+    // (startAtOld); a model the predictor serves never sees the other.
+    const VecX qTaylor = old.q + h * old.v + (sc.trapezoidal ? 0.5 * h * h : 0.0) * old.a;
+    VecX qPredicted = startAtOld ? old.q : qTaylor;
     auto residual = [&](const VecX& qq, const VecX& ll) {
       const VecX aa = sc.ca * (qq - old.q) + abar, vv = sc.cv * (qq - old.q) + vbar;
       VecX r(n + m);
@@ -266,11 +273,21 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         throw NumericalError(os.str());
       }
     }
+    if (!converged && qTaylor != old.q) {
+      qPredicted = startAtOld ? qTaylor : VecX(old.q);
+      for (bool backtrack : {false, true}) {
+        try {
+          converged = converged || newton(backtrack);
+        } catch (const NumericalError&) {  // reported as not converged below
+        }
+      }
+      if (converged) startAtOld = !startAtOld;
+    }
     if (!converged) {
       std::ostringstream os;
       os << set.type << " step " << step << " at t = " << t << " s (h = " << h
          << " s): Newton did not converge in " << set.maxNewtonIterations
-         << " iterations, also with backtracking (last update |dq|_inf = " << lastUpdate
+         << " iterations, also with backtracking and from both q_n + h v_n and q_n (last update |dq|_inf = " << lastUpdate
          << " m, residual " << lastResidual << "); try a smaller --dt"
          << (set.type == "generalized_alpha" ? ", a smaller rho_inf (more damping)" : "")
          << " or a looser newton_tol";

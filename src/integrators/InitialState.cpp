@@ -113,7 +113,7 @@ std::vector<int> masslessCoordinates(const Assembler& as, const VecX& p) {
   const VecX q0 = as.model().initialPositions();
   for (size_t e = 0; e < as.model().elements.size(); ++e) {
     const Element& el = *as.model().elements[e];
-    if (!el.mass(as.localState(el.nodes(), q0, VecX(), p), Me) || !Me.isZero(0.0)) continue;
+    if (!el.mass(as.localState(el, q0, VecX(), p), Me) || !Me.isZero(0.0)) continue;
     any = true;
     for (int i : as.elementDofs(e))
       if (i >= 0) ofMasslessPart[i] = 1;

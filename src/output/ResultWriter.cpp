@@ -259,44 +259,50 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   // Meshed bodies (elements/Solid.hpp): cells of their real type, with cell data of the
   // Green-Lagrange strain, the second Piola-Kirchhoff and Cauchy stresses (3x3 tensors in the
   // scene's axes, planar ones padded with zeros) and the von Mises stress at each cell's
-  // centroid, at the nominal parameters; NaN on the other cells. Only when the model has one.
-  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses.
+  // centroid, at the nominal parameters, and their sensitivities d/dp (named like
+  // "dstress_cauchy/dE": the chain rule through the run's dq/dp plus the explicit dependence on
+  // E and nu, Solid::centroidStressDerivative); NaN on the other cells. Only when the model has one.
+  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses, no
+  // sensitivities (NaN).
   bool anySolid = !shellCells.empty();
   for (const auto& el : m.elements) anySolid = anySolid || dynamic_cast<const Solid*>(el.get());
-  vtkNew<vtkDoubleArray> strain, pk2, cauchy, mises;
+  // [0 .. 3]: strain, PK2, Cauchy, von Mises; then the same four per parameter.
+  std::vector<vtkSmartPointer<vtkDoubleArray>> cellArrays;
   if (anySolid) {
     const vtkIdType before = grid->GetNumberOfCells();
-    for (auto* a : {strain.Get(), pk2.Get(), cauchy.Get()}) a->SetNumberOfComponents(9);
-    strain->SetName("green_lagrange_strain");
-    pk2->SetName("stress_pk2");
-    cauchy->SetName("stress_cauchy");
-    mises->SetName("von_mises");
+    std::vector<std::string> suffix = {""};
+    for (size_t k = 0; k < s.dp.size(); ++k) suffix.push_back("/d" + m.parameters[k].name);
+    for (const std::string& sfx : suffix)
+      for (const char* base : {"green_lagrange_strain", "stress_pk2", "stress_cauchy", "von_mises"}) {
+        auto a = vtkSmartPointer<vtkDoubleArray>::New();
+        a->SetName(((sfx.empty() ? "" : "d") + std::string(base) + sfx).c_str());
+        a->SetNumberOfComponents(std::string(base) == "von_mises" ? 1 : 9);
+        cellArrays.push_back(a);
+      }
     const double nan = std::nan("");
     const std::array<double, 9> nans{nan, nan, nan, nan, nan, nan, nan, nan, nan};
     const VecX pn = m.nominalParameters();
     for (vtkIdType c = 0; c < before; ++c) {
       const auto sc = shellCells.find(c);
-      if (sc != shellCells.end()) {
-        const auto& tri = static_cast<const ShellTriangle&>(*m.elements[sc->second]);
-        LocalState ls;
-        ls.dim = 3;
-        ls.p = &pn;
-        ls.x.resize(9);
-        for (int j = 0; j < 3; ++j)
-          for (int cc = 0; cc < 3; ++cc) ls.x[3 * j + cc] = m.coordinate(s.x.q, tri.nodes()[j], cc);
-        MatX E, S, sig;
-        double vm;
-        tri.membraneStress(ls, E, S, sig, vm);
-        strain->InsertNextTuple(E.data());  // symmetric: column-major = row-major
-        pk2->InsertNextTuple(S.data());
-        cauchy->InsertNextTuple(sig.data());
-        mises->InsertNextValue(vm);
+      if (sc == shellCells.end()) {
+        for (auto& a : cellArrays) a->InsertNextTuple(nans.data());
         continue;
       }
-      strain->InsertNextTuple(nans.data());
-      pk2->InsertNextTuple(nans.data());
-      cauchy->InsertNextTuple(nans.data());
-      mises->InsertNextValue(nan);
+      const auto& tri = static_cast<const ShellTriangle&>(*m.elements[sc->second]);
+      LocalState ls;
+      ls.dim = 3;
+      ls.p = &pn;
+      ls.x.resize(9);
+      for (int j = 0; j < 3; ++j)
+        for (int cc = 0; cc < 3; ++cc) ls.x[3 * j + cc] = m.coordinate(s.x.q, tri.nodes()[j], cc);
+      MatX E, S, sig;
+      double vm;
+      tri.membraneStress(ls, E, S, sig, vm);
+      cellArrays[0]->InsertNextTuple(E.data());  // symmetric: column-major = row-major
+      cellArrays[1]->InsertNextTuple(S.data());
+      cellArrays[2]->InsertNextTuple(sig.data());
+      cellArrays[3]->InsertNextTuple(&vm);
+      for (size_t k = 4; k < cellArrays.size(); ++k) cellArrays[k]->InsertNextTuple(nans.data());
     }
     const VecX p = m.nominalParameters();
     for (size_t e = 0; e < m.elements.size(); ++e) {
@@ -315,13 +321,6 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       ls.x.resize(m.dim * nodes.size());
       for (size_t j = 0; j < nodes.size(); ++j)
         for (int c = 0; c < m.dim; ++c) ls.x[j * m.dim + c] = m.coordinate(s.x.q, nodes[j], c);
-      MatX E, S, sig;
-      double vm = nan;
-      try {
-        so->centroidStress(ls, E, S, sig, vm);
-      } catch (const NumericalError&) {  // inside out: no stress to show
-        E = S = sig = MatX::Constant(m.dim, m.dim, nan);
-      }
       auto put = [&](vtkDoubleArray* a, const MatX& T) {
         std::array<double, 9> t{};
         for (int r = 0; r < m.dim; ++r)
@@ -331,16 +330,28 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
           }
         a->InsertNextTuple(t.data());
       };
-      put(strain, E);
-      put(pk2, S);
-      put(cauchy, sig);
-      mises->InsertNextValue(vm);
+      for (size_t k = 0; k <= s.dp.size(); ++k) {
+        MatX E, S, sig;
+        double vm = nan;
+        try {
+          if (k == 0)
+            so->centroidStress(ls, E, S, sig, vm);
+          else
+            so->centroidStressDerivative(ls, gatherNodes(nodes, s.dp[k - 1].q, true), static_cast<int>(k - 1), E, S,
+                                         sig, vm);
+        } catch (const NumericalError&) {  // inside out: no stress to show
+          E = S = sig = MatX::Constant(m.dim, m.dim, nan);
+        }
+        put(cellArrays[4 * k], E);
+        put(cellArrays[4 * k + 1], S);
+        put(cellArrays[4 * k + 2], sig);
+        cellArrays[4 * k + 3]->InsertNextValue(vm);
+      }
     }
   }
   grid->GetCellData()->AddArray(kind);
   grid->GetCellData()->AddArray(id);
-  if (anySolid)
-    for (auto* a : {strain.Get(), pk2.Get(), cauchy.Get(), mises.Get()}) grid->GetCellData()->AddArray(a);
+  for (auto& a : cellArrays) grid->GetCellData()->AddArray(a);
   grid->GetPointData()->AddArray(pos);
   grid->GetPointData()->AddArray(disp);
   grid->GetPointData()->AddArray(vel);

@@ -205,7 +205,10 @@ std::optional<YAML::Node> selectCase(SceneContext& ctx, const YAML::Node& list, 
 
 void applyRigidModels(SceneContext& ctx, const YAML::Node& c, const CaseSelection& sel) {
   for (const auto& b : bodyList(ctx, c, "rigid_model", sel)) {
-    Rigidization R = rigidize(b, ctx.bodies[b].nodes, ctx.m, ctx.positions(), ctx.where(c, sel.path) + ": case '" + sel.name + "'");
+    RigidizeOptions opt;
+    opt.slopes = ctx.bodies[b].slopes;
+    Rigidization R = rigidize(b, ctx.bodies[b].nodes, ctx.m, ctx.positions(),
+                              ctx.where(c, sel.path) + ": case '" + sel.name + "'", nullptr, opt);
     for (auto& con : R.constraints) ctx.m.constraints.push_back(std::move(con));
   }
 }
@@ -225,8 +228,10 @@ std::unique_ptr<PimCase> readPimCase(SceneContext& ctx, const YAML::Node& c, con
     const std::string& b = pc->rigidized[i];
     if (std::count(pc->rigidModel.begin(), pc->rigidModel.end(), b))
       r.fail(c["rigidize"][i], at(sel.path + ".rigidize", i), "'" + b + "' is already rigid in this case (rigid_model)");
+    RigidizeOptions opt;
+    opt.slopes = ctx.bodies[b].slopes;
     Rigidization R = rigidize(b, ctx.bodies[b].nodes, m, ctx.positions(), pc->file + ": case '" + sel.name + "'",
-                              ctx.bodies[b].pairLength);
+                              ctx.bodies[b].pairLength, opt);
     for (auto& con : R.constraints) pc->lambda.push_back(std::move(con));
   }
   if (c["sdofs"]) {

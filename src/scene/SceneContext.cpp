@@ -1,6 +1,7 @@
 #include "scene/SceneContext.hpp"
 
 #include <algorithm>
+#include <sstream>
 
 #include "meshes/GmshCurves.hpp"
 
@@ -69,6 +70,33 @@ std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::strin
   for (size_t i = 0; i < ch.names.size(); ++i)
     ids.push_back(addGeometryNode(ch.names[i], ch.positions[i], c, path + ".curve"));
   return ids;
+}
+
+bool SceneContext::slopeAlong(int id, const std::string& body, const Eigen::Vector3d& t, const YAML::Node& key,
+                              const std::string& path) {
+  const Node& nd = m.nodes[id];
+  if (!nd.hasSlope()) {
+    slopeOwner[id] = body;
+    return false;
+  }
+  const auto owner = slopeOwner.find(id);
+  if (owner == slopeOwner.end() || owner->second == body) return true;  // given in the scene, or this chain's
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  s.head(m.dim) = nd.slope.head(m.dim).normalized();
+  if (s.dot(t) > 1 - 1e-9) return true;  // the chains continue each other smoothly
+  auto fmt = [&](const Eigen::Vector3d& v) {
+    std::ostringstream o;
+    o << "(" << v[0] << ", " << v[1];
+    if (m.dim == 3) o << ", " << v[2];
+    return o.str() + ")";
+  };
+  r.fail(key, path,
+         "node '" + nd.name + "' already carries the slope of ANCF chain '" + owner->second + "' along " + fmt(s) +
+             "; '" + body + "' leaves it along " + fmt(t) +
+             ": one slope per node would weld the two chains there. For a pin, end one chain at its own node "
+             "at the same place and join the two by a spherical constraint; to weld them, give the node a "
+             "'slope'");
+  return true;
 }
 
 void SceneContext::checkSlopes() const {

@@ -32,6 +32,7 @@ class SceneContext {
   struct Body {
     std::vector<int> nodes;
     const Quantity* pairLength;  ///< a spring's natural length (rigidized pairs keep it), else null
+    bool slopes = false;         ///< an ANCF body: rigidizing it fixes its nodes' slopes too
   };
   /// A 3D rigid body by name, for joints fixed to it and for SDOFs.
   struct RigidBodyInfo {
@@ -41,6 +42,7 @@ class SceneContext {
     std::set<int> members;           ///< every node of the body
   };
   std::map<std::string, Body> bodies;
+  std::map<int, std::string> slopeOwner;  ///< node -> the ANCF chain that set its slope
   std::map<std::string, RigidBodyInfo> rigidBodies;
   std::string geoFile;  ///< the scene's Gmsh geometry, if any
 
@@ -94,6 +96,13 @@ class SceneContext {
   std::map<int, SlopeKey> givenSlopes, clamps;
   std::set<int> slopeUsers;  ///< nodes whose slope an element uses
   std::vector<std::pair<int, int>> slopeLinks;  ///< node pairs of the ANCF elements (a, b)
+  /// An ANCF chain `body` passes node `id` along unit tangent `t`. A node has one slope, shared
+  /// by every element there: a second chain through a node whose slope an earlier chain set
+  /// along another direction would be welded to it at that angle (and, straight at rest,
+  /// start strained). Fails then, naming both chains and the remedy (a pin: separate nodes
+  /// and a spherical joint; a weld: the node's `slope` key). Returns true if the slope is set.
+  bool slopeAlong(int id, const std::string& body, const Eigen::Vector3d& t, const YAML::Node& key,
+                  const std::string& path);
   /// After the elements: every slope given is used by an element, every clamp has one to fix.
   void checkSlopes() const;
 
