@@ -4,8 +4,12 @@
 // Hessian), the AD kernels (equal to the analytic ones to 1e-10), zero force under rigid
 // motion, the closed-form edge forces of a uniformly stretched sheet (plane-stress
 // St. Venant-Kirchhoff written out here), the angle and gradient of a hinge folded by a known
-// angle, and Kirchhoff's natural frequencies of a simply supported square plate,
-//   omega_mn = pi^2 (m^2 + n^2) / a^2 sqrt(D / (rho t)),  D = E t^3 / (12 (1 - nu^2)).
+// angle, the energy per area of uniform curvatures (the hinge weight's calibration), Kirchhoff's
+// natural frequencies of a simply supported square plate,
+//   omega_mn = pi^2 (m^2 + n^2) / a^2 sqrt(D / (rho t)),  D = E t^3 / (12 (1 - nu^2)),
+// Navier's series for the same plate under a uniform load, momentum and the O(dt^2) energy error
+// of the trapezoidal rule in free flight, the PIM's cloud counts and the exact mass integrals of
+// the F-R twin.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
