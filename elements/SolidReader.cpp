@@ -21,11 +21,10 @@
 // are "<body>.<Gmsh node tag>". A planar scene reads the mesh's x, y (z must be 0) as its two
 // axes. Every property (E, nu, density, thickness, alpha, beta) is bindable as a parameter.
 #include <cmath>
-#include <filesystem>
 
 #include "elements/PointForce.hpp"
 #include "elements/Solid.hpp"
-#include "meshes/GmshMesh.hpp"
+#include "elements/MeshedBodyReader.hpp"
 #include "scene/KindTable.hpp"
 
 namespace flexsens {
@@ -87,105 +86,11 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     if (dn["alpha"]) props->alpha = {r.nonNegative(dn["alpha"], dp + ".alpha"), -1};
     if (dn["beta"]) props->beta = {r.nonNegative(dn["beta"], dp + ".beta"), -1};
   }
-  // --- mesh -----------------------------------------------------------------------------
-  BodyMeshRequest req;
-  req.dim = d;
-  const YAML::Node meshKey = r.require(el, "mesh", path);
-  const std::string rel = r.text(meshKey, path + ".mesh");
-  req.file = (std::filesystem::path(r.file()).parent_path() / rel).string();
-  const bool isMsh = rel.size() > 4 && rel.substr(rel.size() - 4) == ".msh";
-  req.group = r.text(r.require(el, "group", path), path + ".group");
-  for (const char* k : {"size", "order"})
-    if (isMsh && el[k]) r.fail(el[k], path + "." + k, "a .msh file is used as it is: remove " + std::string(k));
-  if (el["size"]) req.size = r.positive(el["size"], path + ".size");
-  if (el["order"]) {
-    req.order = r.integer(el["order"], path + ".order");
-    if (req.order != 1 && req.order != 2) r.fail(el["order"], path + ".order", "expected 1 (linear) or 2 (quadratic elements)");
-  }
-  req.groupWhere = ctx.where(el["group"], path + ".group");
-  req.sizeWhere = el["size"] ? ctx.where(el["size"], path + ".size") : ctx.where(meshKey, path + ".mesh");
-  const BodyMesh mesh = meshBody(req, ctx.where(meshKey, path + ".mesh"));
-  // --- nodes ----------------------------------------------------------------------------
-  std::map<int, std::string> pointName;
-  for (const auto& [pn, i] : mesh.points) pointName[i] = pn;
-  std::vector<int> ids(mesh.positions.size());
-  double extent = 0.0;
-  for (const auto& x : mesh.positions) extent = std::max(extent, x.lpNorm<Eigen::Infinity>());
-  for (size_t i = 0; i < mesh.positions.size(); ++i) {
-    const Eigen::Vector3d& x3 = mesh.positions[i];
-    if (d == 2 && std::abs(x3.z()) > 1e-12 * std::max(1.0, extent))
-      r.fail(meshKey, path + ".mesh", "a planar scene needs a mesh in the plane z = 0; node " + std::to_string(mesh.gmshTags[i]) +
-                                          " has z = " + fmtNumber(x3.z()));
-    if (!(x3.lpNorm<Eigen::Infinity>() <= 1e6)) r.fail(meshKey, path + ".mesh", "expected mesh coordinates within +-1e6 m");
-    const VecX x = x3.head(d);
-    const auto pit = pointName.find(static_cast<int>(i));
-    const std::string nn = pit != pointName.end() ? pit->second : name + "." + std::to_string(mesh.gmshTags[i]);
-    if (ctx.hasNode(nn)) {
-      const int id = ctx.nodeIndex(nn);
-      if ((m.nodes[id].position - x).norm() > 1e-9)
-        r.fail(meshKey, path + ".mesh", "the mesh places node '" + nn + "' away from the node of that name (" +
-                                            fmtNumber((m.nodes[id].position - x).norm()) + " m)");
-      ids[i] = id;
-      continue;
-    }
-    Node nd;
-    nd.name = nn;
-    nd.position = x;
-    nd.velocity = VecX::Zero(d);
-    ctx.addNode(nd);
-    ids[i] = ctx.nodeIndex(nn);
-  }
-  // --- ground -----------------------------------------------------------------------------
-  auto groupNodes = [&](const YAML::Node& at, const std::string& key, const std::string& g) {
-    if (mesh.points.count(g)) return std::vector<int>{mesh.points.at(g)};
-    auto it = mesh.groups.find(g);
-    if (it == mesh.groups.end()) {
-      std::string avail;
-      for (const auto& [pn, i] : mesh.points) avail += (avail.empty() ? "" : ", ") + pn;
-      for (const auto& [gn, ns] : mesh.groups) avail += (avail.empty() ? "" : ", ") + gn;
-      r.fail(at, key, "no Physical Point or node group '" + g + "' on the mesh of " + req.group + "; available: " +
-                          (avail.empty() ? "(none)" : avail));
-    }
-    return it->second;
-  };
-  if (el["ground"]) {
-    const YAML::Node gl = el["ground"];
-    r.requireList(gl, path + ".ground");
-    for (size_t k = 0; k < gl.size(); ++k) {
-      const std::string key = at(path + ".ground", k);
-      for (int i : groupNodes(gl[k], key, r.text(gl[k], key))) {
-        m.nodes[ids[i]].ground = true;
-        m.nodes[ids[i]].velocity = VecX::Zero(d);
-      }
-    }
-  }
-  // --- initial velocity: v_i = velocity + omega x (x_i - center) ----------------------------
-  if (el["velocity"] || el["angular_velocity"]) {
-    if (el["center"] && !el["angular_velocity"])
-      r.fail(el["center"], path + ".center", "center is the point angular_velocity turns about: give angular_velocity");
-    const VecX v0 = el["velocity"] ? r.vector(el["velocity"], path + ".velocity", d) : VecX(VecX::Zero(d));
-    const VecX c0 = el["center"] ? r.vector(el["center"], path + ".center", d) : VecX(VecX::Zero(d));
-    Eigen::Vector3d w = Eigen::Vector3d::Zero();
-    if (el["angular_velocity"]) {
-      if (d == 2) w.z() = r.number(el["angular_velocity"], path + ".angular_velocity");
-      else w = r.vector(el["angular_velocity"], path + ".angular_velocity", 3);
-    }
-    const std::string key = el["velocity"] ? path + ".velocity" : path + ".angular_velocity";
-    const YAML::Node at0 = el["velocity"] ? el["velocity"] : el["angular_velocity"];
-    for (int id : ids) {
-      if (m.nodes[id].ground) continue;
-      Eigen::Vector3d rel3 = Eigen::Vector3d::Zero();
-      rel3.head(d) = m.nodes[id].position - c0;
-      const VecX v = v0 + VecX(w.cross(rel3)).head(d);
-      if (!(v.lpNorm<Eigen::Infinity>() <= 1e6)) r.fail(at0, key, "expected node velocities within +-1e6 m/s");
-      if (d == 3) {
-        ctx.setVelocity(id, Eigen::Vector3d(v), at0, key);  // checks a node shared with another body
-      } else {
-        m.nodes[id].velocity = v;
-        ctx.velocitySetBy(id, key);
-      }
-    }
-  }
+  // --- mesh and nodes ---------------------------------------------------------------------
+  YAML::Node meshKey;
+  const BodyMesh mesh = readBodyMesh(ctx, el, path, d, true, meshKey);
+  const std::string group = r.text(el["group"], path + ".group");
+  const std::vector<int> ids = addMeshNodes(ctx, el, path, name, mesh, meshKey, group);
   // --- elements -------------------------------------------------------------------------
   const int n = simplexNodes(mesh.shape);
   for (size_t c = 0; c < mesh.cells.size(); ++c) {
@@ -229,7 +134,7 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
       auto fit = mesh.facets.find(g);
       if (fit == mesh.facets.end() || fit->second.empty())
         r.fail(tl[k]["group"], key + ".group", "no boundary " + std::string(d == 2 ? "Physical Curve" : "Physical Surface") +
-                                                   " '" + g + "' on the mesh of " + req.group);
+                                                   " '" + g + "' on the mesh of " + group);
       std::map<int, double> w;  // node -> share of the measure
       double total = 0.0;
       for (const auto& f : fit->second) {

@@ -1,5 +1,6 @@
 #include "output/ResultWriter.hpp"
 
+#include "elements/ShellTriangle.hpp"
 #include "elements/Solid.hpp"
 
 #include <vtkCellData.h>
@@ -21,6 +22,7 @@
 #include <cstring>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -227,8 +229,9 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(pts);
   vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam
+  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam, 8 shell triangle
   id->SetName("element_id");
+  std::map<vtkIdType, size_t> shellCells;  // cell -> element, of the shell triangles
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const auto& el = *m.elements[e];
     const std::string k = el.kind();
@@ -245,6 +248,13 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
                                                   : k == "rigid_body" ? 4 : k == "ancf_cable" ? 6 : k == "ancf_beam" ? 7 : 0);
       id->InsertNextValue(static_cast<int>(e));
     }
+    if (k == "shell_triangle") {  // the shell's surface (its hinges have no cell of their own)
+      vtkIdType ids[3] = {el.nodes()[0], el.nodes()[1], el.nodes()[2]};
+      shellCells[grid->GetNumberOfCells()] = e;
+      grid->InsertNextCell(VTK_TRIANGLE, 3, ids);
+      kind->InsertNextValue(8);
+      id->InsertNextValue(static_cast<int>(e));
+    }
   }
   // Meshed bodies (elements/Solid.hpp): cells of their real type, with cell data of the
   // Green-Lagrange strain, the second Piola-Kirchhoff and Cauchy stresses (3x3 tensors in the
@@ -252,7 +262,9 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   // centroid, at the nominal parameters, and their sensitivities d/dp (named like
   // "dstress_cauchy/dE": the chain rule through the run's dq/dp plus the explicit dependence on
   // E and nu, Solid::centroidStressDerivative); NaN on the other cells. Only when the model has one.
-  bool anySolid = false;
+  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses, no
+  // sensitivities (NaN).
+  bool anySolid = !shellCells.empty();
   for (const auto& el : m.elements) anySolid = anySolid || dynamic_cast<const Solid*>(el.get());
   // [0 .. 3]: strain, PK2, Cauchy, von Mises; then the same four per parameter.
   std::vector<vtkSmartPointer<vtkDoubleArray>> cellArrays;
@@ -269,8 +281,29 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       }
     const double nan = std::nan("");
     const std::array<double, 9> nans{nan, nan, nan, nan, nan, nan, nan, nan, nan};
-    for (vtkIdType c = 0; c < before; ++c)
-      for (auto& a : cellArrays) a->InsertNextTuple(nans.data());
+    const VecX pn = m.nominalParameters();
+    for (vtkIdType c = 0; c < before; ++c) {
+      const auto sc = shellCells.find(c);
+      if (sc == shellCells.end()) {
+        for (auto& a : cellArrays) a->InsertNextTuple(nans.data());
+        continue;
+      }
+      const auto& tri = static_cast<const ShellTriangle&>(*m.elements[sc->second]);
+      LocalState ls;
+      ls.dim = 3;
+      ls.p = &pn;
+      ls.x.resize(9);
+      for (int j = 0; j < 3; ++j)
+        for (int cc = 0; cc < 3; ++cc) ls.x[3 * j + cc] = m.coordinate(s.x.q, tri.nodes()[j], cc);
+      MatX E, S, sig;
+      double vm;
+      tri.membraneStress(ls, E, S, sig, vm);
+      cellArrays[0]->InsertNextTuple(E.data());  // symmetric: column-major = row-major
+      cellArrays[1]->InsertNextTuple(S.data());
+      cellArrays[2]->InsertNextTuple(sig.data());
+      cellArrays[3]->InsertNextTuple(&vm);
+      for (size_t k = 4; k < cellArrays.size(); ++k) cellArrays[k]->InsertNextTuple(nans.data());
+    }
     const VecX p = m.nominalParameters();
     for (size_t e = 0; e < m.elements.size(); ++e) {
       const auto* so = dynamic_cast<const Solid*>(m.elements[e].get());

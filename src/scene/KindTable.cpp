@@ -25,6 +25,7 @@ const KindTable& elementKinds() {
       {"rigid_bar", readRigidBar},
       {"rigid_body", readRigidBody},
       {"rotational_spring_damper", readRotationalSpring},
+      {"shell", readShell},
       {"solid", readSolid},
       {"spring_damper", readSpringDamper},
   }};

@@ -38,6 +38,7 @@ void deriveSlopeRates(SceneContext& ctx);
 void readBeam(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRigidBody(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readSolid(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readShell(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readRotationalSpring(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readDistance(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readFixed(SceneContext&, const YAML::Node&, const std::string&, const std::string&);

@@ -213,11 +213,13 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   }
   m.gravity = root["gravity"] ? r.vector(root["gravity"], "gravity", m.dim) : VecX::Zero(m.dim);
   if (root["geometry"]) readGeometry(ctx, root["geometry"]);
-  // Nodes may all come from Gmsh: the geometry's named points or a meshed body (type: solid).
+  // Nodes may all come from Gmsh: the geometry's named points or a meshed body (type: solid or shell).
   bool meshedBody = false;
   if (root["elements"] && root["elements"].IsSequence())
     for (const auto& item : root["elements"])
-      if (item.IsMap() && item["type"] && item["type"].IsScalar() && item["type"].Scalar() == "solid") meshedBody = true;
+      if (item.IsMap() && item["type"] && item["type"].IsScalar() &&
+          (item["type"].Scalar() == "solid" || item["type"].Scalar() == "shell"))
+        meshedBody = true;
   if (root["nodes"] || !(root["geometry"] || meshedBody)) readNodes(ctx, r.require(root, "nodes", ""));
   if (root["elements"]) readItems(ctx, root["elements"], "elements", "element", elementKinds());
   ctx.checkSlopes();

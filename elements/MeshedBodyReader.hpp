@@ -1,0 +1,25 @@
+// Scene keys shared by the readers of meshed bodies (solid: elements/SolidReader.cpp, shell:
+// elements/ShellReader.cpp): the Gmsh mesh (mesh, group, size, order) and the body's nodes
+// (names from Physical Points, ground groups, initial velocity).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "meshes/GmshMesh.hpp"
+#include "scene/SceneContext.hpp"
+
+namespace flexsens {
+
+/// The mesh keys of item `el`: `mesh` (.geo meshed here, or .msh), `group` (a Physical group
+/// of dimension elementDim), `size`, and `order` when withOrder. meshKey: the `mesh` node.
+BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string& path, int elementDim, bool withOrder,
+                      YAML::Node& meshKey);
+
+/// Scene nodes of the mesh's nodes, in mesh order (an existing node of the same name is shared
+/// when at the same place), then the keys `ground`, `velocity`, `angular_velocity`, `center`.
+/// A planar scene takes x, y of a mesh in the plane z = 0.
+std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
+                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group);
+
+}  // namespace flexsens

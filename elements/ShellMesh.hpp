@@ -1,0 +1,33 @@
+// A discrete shell from a triangle mesh: one ShellTriangle (membrane, mass) per triangle and
+// one ShellHinge (bending) per interior edge, the edge shared by exactly two triangles.
+// Boundary edges (one triangle) carry no hinge: a free or simply supported edge (the
+// rotation about it costs nothing). An edge of three or more triangles (non-manifold) is an
+// error: one dihedral angle per edge is then undefined.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Element.hpp"
+#include "elements/ShellProperties.hpp"
+
+namespace flexsens {
+
+struct ShellMeshCounts {
+  int triangles = 0, hinges = 0, boundaryEdges = 0;
+};
+
+/// rest: rest positions of the mesh nodes [m]; tris: node indices (into rest and ids) of each
+/// triangle; ids: model node of each mesh node. Elements are named <name>.tri<k> and
+/// <name>.hinge<k>. flatRest: every hinge's rest angle is 0 (else the rest mesh's angle).
+/// label(i) names mesh node i in messages. Throws std::invalid_argument for a degenerate
+/// triangle or a non-manifold edge.
+ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vector3d>& rest,
+                           const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
+                           const std::shared_ptr<ShellProperties>& props, bool flatRest,
+                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label);
+
+}  // namespace flexsens

@@ -1,0 +1,41 @@
+// Material and thickness of one discrete shell (elements/ShellTriangle.hpp membranes,
+// elements/ShellHinge.hpp bending), shared by its elements, and the plate constants they
+// derive from them.
+//
+// Units: E [Pa], nu [-], density [kg/m^3], thickness [m], alpha [1/s].
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/Types.hpp"
+
+namespace flexsens {
+
+struct ShellProperties {
+  Quantity E;                 ///< Young's modulus [Pa]
+  Quantity nu;                ///< Poisson's ratio [-], in (-1, 0.5)
+  Quantity density;           ///< [kg/m^3]
+  Quantity thickness;         ///< [m]
+  Quantity alpha{0.0, -1};    ///< mass-proportional damping [1/s]
+  std::vector<std::pair<std::string, Quantity*>> properties() {
+    return {{"E", &E}, {"nu", &nu}, {"density", &density}, {"thickness", &thickness}, {"alpha", &alpha}};
+  }
+};
+
+namespace shell {
+/// Plate bending stiffness D = E t^3 / (12 (1 - nu^2)) [N m].
+template <class T> T bendingStiffness(const T& E, const T& nu, const T& t) {
+  return E * t * t * t / (12.0 * (1.0 - nu * nu));
+}
+/// dD/dE, dD/dnu, dD/dt at (E, nu, t).
+inline void bendingStiffnessDerivatives(double E, double nu, double t, double& dE, double& dNu, double& dT) {
+  const double D = bendingStiffness(E, nu, t);
+  dE = D / E;
+  dNu = D * 2.0 * nu / (1.0 - nu * nu);
+  dT = 3.0 * D / t;
+}
+}  // namespace shell
+
+}  // namespace flexsens

@@ -1,0 +1,73 @@
+// Scene reader of shell (elements/ShellMesh.hpp): a thin body meshed by Gmsh in a 3D scene.
+//
+//   - type: shell
+//     mesh: panel.geo          # .geo (meshed here) or .msh (taken as is), relative to the scene
+//     group: panel             # Physical Surface: linear triangles (flat or curved)
+//     size: 0.05               # maximum element size [m] (.geo only; default: the file's sizes)
+//     E: 7.0e10                # [Pa]
+//     nu: 0.33                 # [-], -1 < nu < 0.5
+//     density: 2700            # [kg/m^3]
+//     thickness: 0.002         # [m]
+//     rest_shape: initial      # or flat: hinges at rest when flat (dihedral angle 0)
+//     damping: {alpha: 0.5}    # optional: alpha M v [1/s]
+//     ground: [hinge_edge]     # Physical Points or node groups whose nodes are fixed
+//     velocity: [0, 0, 1]      # optional initial velocity [m/s] of every free node, plus
+//     angular_velocity: [0, 0, 2]  # omega [rad/s] about center (default 0)
+// rest_shape: the membranes' rest state is always the mesh; `initial` (default) takes each
+// hinge's rest angle from the mesh too (the body starts at rest), `flat` makes it 0 (a curved
+// mesh then starts bent and springs towards flat). Nodes on Physical Points take the point's
+// name; the others are "<body>.<Gmsh node tag>". Properties E, nu, density, thickness, alpha
+// are bindable as parameters.
+#include "elements/MeshedBodyReader.hpp"
+#include "elements/ShellMesh.hpp"
+#include "scene/KindTable.hpp"
+
+namespace flexsens {
+
+void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "E", "nu", "density", "thickness", "rest_shape", "damping",
+                        "ground", "velocity", "angular_velocity", "center"});
+  ctx.requireSpatial(el, path, "a shell");
+  auto props = std::make_shared<ShellProperties>();
+  props->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
+  const double nu = r.number(r.require(el, "nu", path), path + ".nu");
+  if (!(nu > -1.0 && nu < 0.5))
+    r.fail(el["nu"], path + ".nu", "expected -1 < nu < 0.5 (a compressible isotropic material); got " + fmtNumber(nu));
+  props->nu = {nu, -1};
+  props->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
+  props->thickness = {r.positive(r.require(el, "thickness", path), path + ".thickness"), -1};
+  bool flatRest = false;
+  if (el["rest_shape"]) {
+    const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
+    if (rs == "flat") flatRest = true;
+    else if (rs != "initial") r.fail(el["rest_shape"], path + ".rest_shape", "expected initial or flat; got '" + rs + "'");
+  }
+  if (el["damping"]) {
+    const YAML::Node dn = el["damping"];
+    const std::string dp = path + ".damping";
+    r.allowKeys(dn, dp, {"alpha"});
+    if (dn["alpha"]) props->alpha = {r.nonNegative(dn["alpha"], dp + ".alpha"), -1};
+  }
+  YAML::Node meshKey;
+  const BodyMesh mesh = readBodyMesh(ctx, el, path, 2, false, meshKey);
+  const std::string group = r.text(el["group"], path + ".group");
+  if (mesh.shape != Simplex::Tri3)
+    r.fail(meshKey, path + ".mesh", "Physical Surface '" + group + "' holds " + simplexName(mesh.shape) +
+                                        " elements; expected linear triangles (3 nodes) for a shell");
+  const std::vector<int> ids = addMeshNodes(ctx, el, path, name, mesh, meshKey, group);
+  std::vector<std::array<int, 3>> tris;
+  for (const auto& c : mesh.cells) tris.push_back({c[0], c[1], c[2]});
+  try {
+    buildShell(name, mesh.positions, tris, ids, props, flatRest, m.elements,
+               [&](int i) { return std::to_string(mesh.gmshTags[i]); });
+  } catch (const std::invalid_argument& e) {
+    r.fail(meshKey, path + ".mesh", std::string(e.what()) + "; the node numbers are Gmsh node tags");
+  }
+  ctx.bindAll(name, props->properties());
+  // A PIM body: its cloud is all its mesh nodes (a flat shell's is a planar cloud in 3D).
+  ctx.bodies[name] = {ids, nullptr};
+}
+
+}  // namespace flexsens

@@ -1,0 +1,181 @@
+#include "elements/ShellTriangle.hpp"
+
+#include <cmath>
+
+#include "elements/KernelElementAD.hpp"
+#include "elements/SimplexShape.hpp"  // fmtNumber
+
+namespace flexsens {
+
+namespace {
+/// Consistent mass pattern of a linear triangle per unit rho t A: (1 + delta_ij) / 12.
+double massShape(int i, int j) { return (i == j ? 2.0 : 1.0) / 12.0; }
+/// Plane-stress Lame pair (mu, lambda*) [Pa] from E [Pa], nu [-].
+template <class T> T muOf(const T& E, const T& nu) { return E / (2.0 * (1.0 + nu)); }
+template <class T> T lambdaStarOf(const T& E, const T& nu) { return E * nu / (1.0 - nu * nu); }
+}  // namespace
+
+ShellTriangle::ShellTriangle(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props,
+                             const VecX& restX)
+    : KernelElement(std::move(name), std::move(nodes)), props_(std::move(props)) {
+  const std::string who = "shell triangle " + this->name();
+  if (!props_) throw std::invalid_argument(who + ": no material");
+  if (this->nodes().size() != 3 || restX.size() != 9) throw std::invalid_argument(who + ": needs 3 nodes in 3D");
+  const Eigen::Vector3d X0 = restX.segment<3>(0), e1 = restX.segment<3>(3) - X0, e2 = restX.segment<3>(6) - X0;
+  const Eigen::Vector3d n = e1.cross(e2);
+  const double h = std::max({e1.norm(), e2.norm(), (e2 - e1).norm()});
+  A_ = 0.5 * n.norm();
+  if (!(A_ > 1e-10 * h * h))
+    throw std::invalid_argument(who + ": degenerate (rest area " + fmtNumber(A_) + " m^2 for a longest edge of " +
+                                fmtNumber(h) + " m; expected a positive area)");
+  const Eigen::Vector3d t1 = e1.normalized(), t2 = n.normalized().cross(t1);
+  Eigen::Matrix2d Dm;
+  Dm << e1.dot(t1), e2.dot(t1), e1.dot(t2), e2.dot(t2);
+  const Eigen::Matrix2d Di = Dm.inverse();
+  G_.resize(3, 2);
+  G_.row(1) = Di.row(0);
+  G_.row(2) = Di.row(1);
+  G_.row(0) = -(Di.row(0) + Di.row(1));
+  basis_.resize(3, 2);
+  basis_ << t1, t2;
+}
+
+void ShellTriangle::checkDim(const LocalState& s) const {
+  if (s.dim != 3 || s.x.size() != 9) throw std::invalid_argument("shell triangle " + name() + ": spatial only (dim must be 3)");
+}
+
+MatX ShellTriangle::strain(const VecX& x) const {
+  MatX F = MatX::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += x.segment<3>(3 * i) * G_.row(i);
+  return 0.5 * (F.transpose() * F - MatX::Identity(2, 2));
+}
+
+void ShellTriangle::membraneStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const {
+  checkDim(s);
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  MatX F = MatX::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
+  const MatX C = F.transpose() * F, I = MatX::Identity(2, 2);
+  const MatX E2 = 0.5 * (C - I), S2 = lam * E2.trace() * I + 2.0 * mu * E2;
+  E = basis_ * E2 * basis_.transpose();
+  S = basis_ * S2 * basis_.transpose();
+  sigma = F * S2 * F.transpose() / std::sqrt(C.determinant());
+  const MatX dev = sigma - sigma.trace() / 3.0 * MatX::Identity(3, 3);
+  vonMises = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+}
+
+// ------------------------------------------------------------------ value templates
+// props = (E, nu, density, thickness, alpha).
+template <class T>
+MatT<T> ShellTriangle::massT(const LocalState&, const VecT<T>& props) const {
+  const T m = props[2] * props[3] * A_;  // rho t A [kg]
+  MatT<T> M = MatT<T>::Zero(9, 9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int c = 0; c < 3; ++c) M(3 * i + c, 3 * j + c) = m * massShape(i, j);
+  return M;
+}
+
+template <class T>
+VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const {
+  checkDim(s);
+  const T mu = muOf(props[0], props[1]), lam = lambdaStarOf(props[0], props[1]);
+  const T t = props[3], m = props[2] * props[3] * A_, alpha = props[4];
+  const bool hasV = v.size() == x.size();
+  VecT<T> Q = VecT<T>::Zero(9);
+  for (int i = 0; i < 3; ++i) {
+    if (s.gravity) Q.template segment<3>(3 * i) += (m / 3.0) * s.gravity->template cast<T>();
+    if (hasV)
+      for (int j = 0; j < 3; ++j) Q.template segment<3>(3 * i) -= (alpha * m * massShape(i, j)) * v.template segment<3>(3 * j);
+  }
+  MatT<T> F = MatT<T>::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += x.template segment<3>(3 * i) * G_.row(i).template cast<T>();
+  const MatT<T> E = 0.5 * (F.transpose() * F - MatT<T>::Identity(2, 2));
+  const MatT<T> S = (lam * E.trace()) * MatT<T>::Identity(2, 2) + (2.0 * mu) * E;
+  const MatT<T> P = F * S;
+  for (int i = 0; i < 3; ++i) Q.template segment<3>(3 * i) -= (A_ * t) * (P * G_.row(i).transpose().template cast<T>());
+  return Q;
+}
+
+// ------------------------------------------------------------------ analytic derivatives
+void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  checkDim(s);
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
+  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  const double m = props_->density.value(p) * t * A_, alpha = props_->alpha.value(p);
+  dQdq.setZero(9, 9);
+  dQdv.setZero(9, 9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) dQdv.block<3, 3>(3 * i, 3 * j) = -(alpha * m * massShape(i, j)) * Eigen::Matrix3d::Identity();
+  MatX F = MatX::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
+  const MatX I = MatX::Identity(2, 2);
+  const MatX E = 0.5 * (F.transpose() * F - I);
+  const MatX S = lam * E.trace() * I + 2.0 * mu * E;
+  for (int j = 0; j < 3; ++j)
+    for (int c = 0; c < 3; ++c) {
+      MatX dF = MatX::Zero(3, 2);
+      dF.row(c) = G_.row(j);
+      const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
+      const MatX dS = lam * dE.trace() * I + 2.0 * mu * dE;
+      const MatX dP = dF * S + F * dS;  // d(F S)/dx_jc
+      for (int i = 0; i < 3; ++i) dQdq.block(3 * i, 3 * j + c, 3, 1) = -(A_ * t) * dP * G_.row(i).transpose();
+    }
+}
+
+bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
+               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k);
+  if (!(dYoung || dNu || dRho || dT || dAlpha)) return false;
+  checkDim(s);
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
+  const double rho = props_->density.value(p), alpha = props_->alpha.value(p);
+  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  // d mu = dE / (2 (1 + nu)) - E dnu / (2 (1 + nu)^2); d lambda* = nu dE / (1 - nu^2) + E (1 + nu^2) dnu / (1 - nu^2)^2
+  const double w = 1.0 - nu * nu;
+  const double dmu = dYoung / (2.0 * (1.0 + nu)) - E0 * dNu / (2.0 * (1.0 + nu) * (1.0 + nu));
+  const double dlam = nu * dYoung / w + E0 * (1.0 + nu * nu) * dNu / (w * w);
+  const double dm = (dRho * t + rho * dT) * A_;  // d(rho t A) [kg]
+  dQ.setZero(9);
+  const bool hasV = s.v.size() == s.x.size();
+  for (int i = 0; i < 3; ++i) {
+    if (s.gravity) dQ.segment<3>(3 * i) += (dm / 3.0) * *s.gravity;
+    if (hasV)
+      for (int j = 0; j < 3; ++j)
+        dQ.segment<3>(3 * i) -= ((dAlpha * rho * t * A_ + alpha * dm) * massShape(i, j)) * s.v.segment<3>(3 * j);
+  }
+  MatX F = MatX::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
+  const MatX I = MatX::Identity(2, 2);
+  const MatX E = 0.5 * (F.transpose() * F - I);
+  const MatX S = lam * E.trace() * I + 2.0 * mu * E;
+  const MatX dS = dlam * E.trace() * I + 2.0 * dmu * E;
+  const MatX dP = F * (dT * S + t * dS);  // d(t F S)
+  for (int i = 0; i < 3; ++i) dQ.segment<3>(3 * i) -= A_ * dP * G_.row(i).transpose();
+  dM.setZero(9, 9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) dM.block<3, 3>(3 * i, 3 * j) = (dm * massShape(i, j)) * Eigen::Matrix3d::Identity();
+  return true;
+}
+
+double ShellTriangle::potential(const LocalState& s) const {
+  checkDim(s);
+  const VecX& p = *s.p;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
+  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  const MatX E = strain(s.x);
+  double U = A_ * t * (0.5 * lam * E.trace() * E.trace() + mu * (E.array() * E.array()).sum());
+  if (s.gravity) {  // minus the work of gravity [J]
+    const double m = props_->density.value(p) * t * A_;
+    for (int i = 0; i < 3; ++i) U -= (m / 3.0) * s.gravity->dot(s.x.segment<3>(3 * i));
+  }
+  return U;
+}
+
+template class KernelElement<ShellTriangle>;
+
+}  // namespace flexsens

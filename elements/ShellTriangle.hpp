@@ -1,0 +1,66 @@
+// Membrane and mass of one triangle of a discrete shell (elements/ShellMesh.hpp): 3 nodes
+// in 3D, positions only. Bending is carried by the hinges on the interior edges
+// (elements/ShellHinge.hpp).
+//
+// Constant strain triangle, total Lagrangian on the rest triangle X0, X1, X2 [m]: with an
+// orthonormal basis (t1, t2) of the rest plane, Dm = [X1 - X0, X2 - X0] in that basis (2x2),
+//   F = [x1 - x0, x2 - x0] Dm^-1  (3x2),  E = (F^T F - I) / 2  (2x2, Green-Lagrange),
+//   S = lambda* tr(E) I + 2 mu E  (St. Venant-Kirchhoff in plane stress, S33 = 0),
+//   mu = E / (2 (1 + nu)), lambda* = E nu / (1 - nu^2)  [Pa],
+//   U = A t (lambda*/2 tr(E)^2 + mu E:E)  [J],   Q_i = -A t F S G_i,  G_i = dN_i/dX (2).
+// A the rest area [m^2], t the thickness [m]. Frame-indifferent: any rigid motion of the rest
+// triangle gives E = 0 and Q = 0. No drilling or transverse stiffness of its own.
+// Mass: consistent and constant, M = rho t A / 12 (1 + delta_ij) I3 [kg]; gravity Q_i =
+// rho t A / 3 g; optional mass-proportional damping Q = -alpha M v.
+// Design parameters: E, nu, density, thickness, alpha.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "elements/KernelElement.hpp"
+#include "elements/ShellProperties.hpp"
+
+namespace flexsens {
+
+class ShellTriangle : public KernelElement<ShellTriangle> {
+ public:
+  /// restX: rest positions of the 3 nodes (9 entries [m]). Throws std::invalid_argument for a
+  /// degenerate rest triangle (area below 1e-10 (longest edge)^2).
+  ShellTriangle(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX);
+  std::string kind() const override { return "shell_triangle"; }
+  void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
+  double potential(const LocalState& s) const override;
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
+
+  double restArea() const { return A_; }  ///< [m^2]
+  /// Green-Lagrange membrane strain (2x2, in the rest basis t1, t2) at positions x (9) [-].
+  MatX strain(const VecX& x) const;
+  /// For output, at s.x and the nominal values s.p: Green-Lagrange strain E and second
+  /// Piola-Kirchhoff stress S as 3x3 tensors in the scene's axes (the rest plane's 2x2 ones
+  /// rotated by the rest basis), the membrane Cauchy stress sigma = F S F^T / J (J the area
+  /// ratio, thickness change ignored) [Pa] and its von Mises stress (plane stress) [Pa].
+  void membraneStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const;
+
+ private:
+  friend class KernelElement<ShellTriangle>;
+  void checkDim(const LocalState& s) const;
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha};
+  }
+  template <class T>
+  VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
+  static constexpr bool hasMassKernel = true;
+  template <class T>
+  MatT<T> massT(const LocalState& s, const VecT<T>& props) const;
+
+  std::shared_ptr<ShellProperties> props_;
+  double A_;      ///< rest area [m^2]
+  MatX G_;        ///< dN_i/dX in the rest basis, 3 x 2 [1/m]
+  MatX basis_;    ///< the rest basis (t1, t2) in the scene's axes, 3 x 2
+};
+
+}  // namespace flexsens
