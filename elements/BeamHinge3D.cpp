@@ -28,6 +28,7 @@ constexpr double kFoldTol = 1e-12;
 
 using triad::V3;
 using triad::cross;  // written out for AD scalars (elements/BodyTriad.hpp)
+using triad::skew;
 
 /// f = |kb|^2 and its gradient in (e1, e2): gf1 = df/de1, gf2 = df/de2 [1/m].
 /// Returns false (outputs unset beyond what was computed) if an edge has zero length or the
@@ -59,12 +60,6 @@ bool curvatureSquaredT(const V3<T>& e1, const V3<T>& e2, T& f, V3<T>& gf1, V3<T>
   gf1 = cs * hs1 - cd * gd1;
   gf2 = cs * hs2 - cd * gd2;
   return true;
-}
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return S;
 }
 
 /// B = d(e1, e2)/d(x_a, x_b, x_c), 6 x 9.

@@ -1,14 +1,10 @@
 #include "elements/JointAngle.hpp"
 
+#include "elements/BodyTriad.hpp"
+
 namespace flexsens {
 
-namespace {
-Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
-  Eigen::Matrix3d S;
-  S << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return S;
-}
-}  // namespace
+using triad::skew;
 
 MatX jointAngleHessian(const VecX& x) {
   using V3 = Eigen::Vector3d;

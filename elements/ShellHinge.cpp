@@ -20,6 +20,7 @@ namespace {
 
 using triad::V3;
 using triad::cross;
+using triad::skew;
 
 /// |n1| |n2| below this times |e|^4 is a triangle of zero area.
 constexpr double kDegenerateTol = 1e-12;
@@ -48,12 +49,6 @@ bool angleT(const VecT<T>& x, T& theta, VecT<T>& g) {
   g.template segment<3>(6) = ta;
   g.template segment<3>(9) = tb;
   return true;
-}
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return S;
 }
 
 /// d(e, a, b)/d(x0, x1, x2, x3), 9 x 12.
