@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "app/Run.hpp"
 #include "elements/Beam.hpp"
 #include "integrators/State.hpp"
 #include "scene/Scene.hpp"
@@ -77,6 +78,26 @@ struct Recorder : Observer {
     throw std::runtime_error("no frame at t = " + std::to_string(t));
   }
 };
+
+/// Whole runs of the scheme at p + h e_k and p - h e_k, each from its own initial state and
+/// without sensitivities: (plus - minus) / 2h at a frame is the central difference of the
+/// discrete solution (h absolute, so a test can take it relative to |p_k|, unlike
+/// app/FiniteDifferences' step relative to max(|p|, 1)).
+struct PlusMinusRuns {
+  Recorder plus, minus;
+};
+inline PlusMinusRuns runsAtPlusMinus(const Assembler& as, const VecX& p, size_t k, double h,
+                                     const IntegratorSettings& set) {
+  PlusMinusRuns r;
+  for (const double sgn : {1.0, -1.0}) {
+    VecX pp = p;
+    pp[k] += sgn * h;
+    StateWithSens st = initialState(as, pp);
+    st.dp.clear();
+    integrate(as, pp, st, set, sgn > 0 ? r.plus : r.minus);
+  }
+  return r;
+}
 
 /// Settings for tests: IDAS at rtol = atol = dtOrTol, or a fixed-step scheme at dt = dtOrTol;
 /// frames every 0.5 s, Newton to 1e-14.

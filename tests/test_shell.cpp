@@ -23,10 +23,9 @@
 #include <unistd.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
-#include <vtkNew.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
 
+#include "StaticFrames.hpp"
 #include "TestModels.hpp"
 #include "app/Modes.hpp"
 #include "core/Assembler.hpp"
@@ -832,17 +831,8 @@ TEST(Shell, StaticRunWritesTriangleCellsWithMembraneStress) {
                            test::sourceDir() + "/tests/scenes/shell/square.geo, group: plate, size: 0.25, E: 2.1e11, nu: 0.3,"
                            " density: 7800, thickness: 0.01, ground: [edges]}\nstatic: {load_steps: 1}\n";
   { std::ofstream(dir / "plate.yaml") << text; }
-  const std::string cmd = std::string(FLEXSENS_EXE) + " static " + (dir / "plate.yaml").string() + " --out " +
-                          (dir / "out").string() + " > /dev/null 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0);
-  fs::path vtu;
-  for (const auto& e : fs::directory_iterator(dir / "out"))
-    if (e.path().extension() == ".vtu") vtu = e.path();
-  ASSERT_FALSE(vtu.empty());
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(vtu.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* g = reader->GetOutput();
+  const auto g = test::staticLastFrame(dir / "plate.yaml", dir / "out");
+  ASSERT_NE(g, nullptr);
   const Scene sc = readSceneText(text, (dir / "plate.yaml").string());
   int tris = 0;
   for (const auto& e : sc.model->elements) tris += e->kind() == "shell_triangle";

@@ -40,14 +40,7 @@ TEST(ShellSensitivity, PanelDirectDifferentiationMatchesCentralDifferencesAndAD)
   const int z = m.dof(m.nodeIndex("tip"), 2);
   for (size_t k = 0; k < m.parameters.size(); ++k) {
     const double h = 1e-5 * std::abs(p[k]);
-    Recorder plus, minus;
-    for (const double sgn : {1.0, -1.0}) {
-      VecX pp = p;
-      pp[k] += sgn * h;
-      StateWithSens st = initialState(as, pp);
-      st.dp.clear();
-      integrate(as, pp, st, set, sgn > 0 ? plus : minus);
-    }
+    const auto [plus, minus] = runsAtPlusMinus(as, p, k, h, set);
     ASSERT_EQ(plus.frames.size(), dd.frames.size());
     double scale = 0.0, errNd = 0.0, errAd = 0.0;
     for (size_t f = 1; f < dd.frames.size(); ++f) scale = std::max(scale, std::abs(dd.frames[f].dp[k].q[z]));

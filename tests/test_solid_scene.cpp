@@ -8,10 +8,8 @@
 #include <vtkCell.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
-#include <vtkNew.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "StaticFrames.hpp"
 #include "core/Assembler.hpp"
 #include "elements/Solid.hpp"
 #include "integrators/Static.hpp"
@@ -158,17 +157,8 @@ TEST(SolidScene, StaticRunWritesRealCellTypesAndStress) {
   text.replace(text.find("force: [0, -0]"), 14, "force: [" + std::to_string(F) + ", 0]");
   text.replace(text.find("mesh: plate.geo"), 15, "mesh: " + dirOf() + "plate.geo");
   { std::ofstream(dir / "plate.yaml") << text; }
-  const std::string cmd = std::string(FLEXSENS_EXE) + " static " + (dir / "plate.yaml").string() + " --out " +
-                          (dir / "out").string() + " > /dev/null 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << text;
-  fs::path vtu;
-  for (const auto& e : fs::directory_iterator(dir / "out"))
-    if (e.path().extension() == ".vtu") vtu = e.path();
-  ASSERT_FALSE(vtu.empty());
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(vtu.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* g = reader->GetOutput();
+  const auto g = test::staticLastFrame(dir / "plate.yaml", dir / "out");
+  ASSERT_NE(g, nullptr) << text;
   const Scene sc = readSceneText(text, (dir / "plate.yaml").string());
   int solids = 0;
   for (const auto& e : sc.model->elements) solids += dynamic_cast<const Solid*>(e.get()) != nullptr;
@@ -221,31 +211,27 @@ TEST(SolidScene, StressSensitivitiesMatchCentralDifferencesOfRuns) {
       << "parameters:\n  - {name: E, of: plate, property: E}\n  - {name: nu, of: plate, property: nu}\n"
       << "  - {name: thickness, of: plate, property: thickness}\nstatic: {load_steps: 1}\n";
     { std::ofstream(dir / (tag + ".yaml")) << t.str(); }
-    const std::string cmd = std::string(FLEXSENS_EXE) + " static " + (dir / (tag + ".yaml")).string() + " --out " +
-                            (dir / tag).string() + " > /dev/null 2>&1";
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << t.str();
-    fs::path vtu;
-    for (const auto& e : fs::directory_iterator(dir / tag))
-      if (e.path().extension() == ".vtu" && (vtu.empty() || e.path() > vtu)) vtu = e.path();  // the last frame
-    auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
-    reader->SetFileName(vtu.c_str());
-    reader->Update();
-    return reader;
+    const auto g = test::staticLastFrame(dir / (tag + ".yaml"), dir / tag);
+    EXPECT_NE(g, nullptr) << t.str();
+    return g;
   };
-  const auto nom = run(-1, 1.0, "nominal");
-  vtkUnstructuredGrid* g0 = nom->GetOutput();
+  const auto g0 = run(-1, 1.0, "nominal");
+  ASSERT_NE(g0, nullptr);
   // Five-point central differences, relative step 1e-3: truncation O(h^4) ~ 1e-12, and the static
   // solve's Newton tolerance (~1e-10 of q) enters divided by 12 h only.
   const double h = 1e-3;
   for (int k = 0; k < 3; ++k) {
-    std::vector<vtkSmartPointer<vtkXMLUnstructuredGridReader>> at;  // p (1 + j h), j = -2, -1, 1, 2
-    for (int j : {-2, -1, 1, 2}) at.push_back(run(k, 1.0 + j * h, names[k] + std::to_string(j)));
+    std::vector<vtkSmartPointer<vtkUnstructuredGrid>> at;  // p (1 + j h), j = -2, -1, 1, 2
+    for (int j : {-2, -1, 1, 2}) {
+      at.push_back(run(k, 1.0 + j * h, names[k] + std::to_string(j)));
+      ASSERT_NE(at.back(), nullptr);
+    }
     for (const std::string base : {"stress_cauchy", "von_mises"}) {
       vtkDataArray* d = g0->GetCellData()->GetArray(("d" + base + "/d" + names[k]).c_str());
       ASSERT_NE(d, nullptr) << base << " " << names[k];
       vtkDataArray* f0 = g0->GetCellData()->GetArray(base.c_str());
       std::vector<vtkDataArray*> f;
-      for (auto& r : at) f.push_back(r->GetOutput()->GetCellData()->GetArray(base.c_str()));
+      for (auto& g : at) f.push_back(g->GetCellData()->GetArray(base.c_str()));
       ASSERT_EQ(f[0]->GetNumberOfTuples(), d->GetNumberOfTuples());
       // The scale: the largest derivative, or the stress over the parameter (dstress/dE is ~0.1 of that).
       double worst = 0.0, scale = 0.0;

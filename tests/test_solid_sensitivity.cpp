@@ -53,14 +53,7 @@ TEST(SolidSensitivity, DirectDifferentiationMatchesCentralDifferencesAndAD) {
     // Central differences of whole runs at +-h, h = 1e-5 |p_k| (relative to each parameter:
     // flexsens' --nd-step is relative to max(|p|, 1), too coarse for beta ~ 1e-4 s).
     const double h = 1e-5 * std::abs(p[k]);
-    Recorder plus, minus;
-    for (const double sgn : {1.0, -1.0}) {
-      VecX pp = p;
-      pp[k] += sgn * h;
-      StateWithSens st = initialState(as, pp);
-      st.dp.clear();
-      integrate(as, pp, st, set, sgn > 0 ? plus : minus);
-    }
+    const auto [plus, minus] = runsAtPlusMinus(as, p, k, h, set);
     Recorder nd;
     ASSERT_EQ(plus.frames.size(), dd.frames.size());
     for (size_t f = 0; f < dd.frames.size(); ++f) {
@@ -102,14 +95,7 @@ TEST(SolidSensitivity, PendulumExampleMatchesCentralDifferences) {
   const int y = m.dof(m.nodeIndex("tip"), 1);
   for (size_t k = 0; k < m.parameters.size(); ++k) {
     const double h = 1e-5 * std::abs(p[k]);
-    Recorder plus, minus;
-    for (const double sgn : {1.0, -1.0}) {
-      VecX pp = p;
-      pp[k] += sgn * h;
-      StateWithSens st = initialState(as, pp);
-      st.dp.clear();
-      integrate(as, pp, st, set, sgn > 0 ? plus : minus);
-    }
+    const auto [plus, minus] = runsAtPlusMinus(as, p, k, h, set);
     double scale = 0.0, err = 0.0;
     for (size_t f = 1; f < dd.frames.size(); ++f) {
       const double nd = (plus.frames[f].x.q[y] - minus.frames[f].x.q[y]) / (2 * h);
