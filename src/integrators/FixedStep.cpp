@@ -86,8 +86,13 @@ struct Scheme {
     if (bdf1 || trapezoidal || midpoint) return VecX();  // trapezoidal: w = a
     return ((1.0 - af) * aNext + af * n.a - am * pseudo(n)) / (1.0 - am);
   }
-  /// Where the forces are evaluated: fw x_{n+1} + (1 - fw) x_n (x = q or v).
-  VecX forcePoint(const VecX& next, const VecX& old) const { return fw == 1.0 ? next : VecX(fw * next + (1.0 - fw) * old); }
+  /// Where the forces are evaluated: fw x_{n+1} + (1 - fw) x_n (x = q or v); `next` itself
+  /// unless fw < 1 (then written into buf), so the other schemes copy nothing per residual.
+  const VecX& forcePoint(const VecX& next, const VecX& old, VecX& buf) const {
+    if (fw == 1.0) return next;
+    buf = fw * next + (1.0 - fw) * old;
+    return buf;
+  }
 };
 
 /// Modified Newton refreshes its matrix when an update shrinks by less than this factor.
@@ -160,10 +165,11 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     // (startAtOld); a model the predictor serves never sees the other.
     const VecX qTaylor = old.q + h * old.v + (sc.trapezoidal ? 0.5 * h * h : 0.0) * old.a;
     VecX qPredicted = startAtOld ? old.q : qTaylor;
+    VecX qfBuf, vfBuf;  // the midpoint's force state
     auto residual = [&](const VecX& qq, const VecX& ll) {
       const VecX aa = sc.ca * (qq - old.q) + abar, vv = sc.cv * (qq - old.q) + vbar;
       VecX r(n + m);
-      r.head(n) = sigma * (M * aa - as.force(sc.forcePoint(qq, old.q), sc.forcePoint(vv, old.v), p)) +
+      r.head(n) = sigma * (M * aa - as.force(sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(vv, old.v, vfBuf), p)) +
                   as.phiQTransposeTimes(qq, p, ll);
       if (m) r.tail(m) = as.phi(qq, p);
       st.residualEvaluations++;
@@ -175,7 +181,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       const VecX v = sc.cv * (qq - old.q) + vbar;
       std::ostringstream what;
       what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s" << how << ")";
-      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q), sc.forcePoint(v, old.v), ll, p, sc), what.str());
+      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(v, old.v, vfBuf), ll, p, sc), what.str());
       st.jacobianEvaluations++;
       factoredCa = sc.ca;
     };
@@ -339,7 +345,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     std::vector<State> dnext(cur.dp.size());
     if (!cur.dp.empty()) {
       // Exact derivative of the discrete step: Newton matrix at the converged point.
-      const VecX qf = sc.forcePoint(q, old.q), vf = sc.forcePoint(next.v, old.v);
+      const VecX& qf = sc.forcePoint(q, old.q, qfBuf);
+      const VecX& vf = sc.forcePoint(next.v, old.v, vfBuf);
       const SpMat& A = newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
       st.jacobianEvaluations++;
       const std::string what = "sensitivity matrix at t = " + std::to_string(t) + " s";
