@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "elements/KernelElementAD.hpp"
+#include "elements/StressDerivative.hpp"
 #include "elements/SimplexShape.hpp"  // fmtNumber
 
 namespace flexsens {
@@ -50,20 +51,46 @@ MatX ShellTriangle::strain(const VecX& x) const {
   return 0.5 * (F.transpose() * F - MatX::Identity(2, 2));
 }
 
+template <class T>
+void ShellTriangle::membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S,
+                                    MatT<T>& sigma, MatT<T>& dev) const {
+  using std::sqrt;
+  const T mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  MatT<T> F = MatT<T>::Zero(3, 2);
+  for (int i = 0; i < 3; ++i) F += x.template segment<3>(3 * i) * G_.row(i).template cast<T>();
+  const MatT<T> C = F.transpose() * F, I = MatT<T>::Identity(2, 2);
+  const MatT<T> E2 = 0.5 * (C - I), S2 = (lam * E2.trace()) * I + (2.0 * mu) * E2;
+  const MatT<T> B = basis_.template cast<T>();
+  E = B * E2 * B.transpose();
+  S = B * S2 * B.transpose();
+  const T J = sqrt(C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0));  // area ratio
+  sigma = F * S2 * F.transpose() / J;
+  dev = sigma - (sigma.trace() / 3.0) * MatT<T>::Identity(3, 3);
+}
+
 void ShellTriangle::membraneStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const {
   checkDim(s);
   const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
-  MatX F = MatX::Zero(3, 2);
-  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
-  const MatX C = F.transpose() * F, I = MatX::Identity(2, 2);
-  const MatX E2 = 0.5 * (C - I), S2 = lam * E2.trace() * I + 2.0 * mu * E2;
-  E = basis_ * E2 * basis_.transpose();
-  S = basis_ * S2 * basis_.transpose();
-  sigma = F * S2 * F.transpose() / std::sqrt(C.determinant());
-  const MatX dev = sigma - sigma.trace() / 3.0 * MatX::Identity(3, 3);
+  MatX dev;
+  membraneStressT<double>(s.x, props_->E.value(p), props_->nu.value(p), E, S, sigma, dev);
   vonMises = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+}
+
+void ShellTriangle::membraneStressDerivative(const LocalState& s, const VecX& dx, int k, MatX& dE, MatX& dS,
+                                             MatX& dsigma, double& dVonMises) const {
+  using stressad::AD1, stressad::seeded, stressad::derivativeOf;
+  checkDim(s);
+  const VecX& p = *s.p;
+  VecT<AD1> x(9);
+  for (int i = 0; i < 9; ++i) x[i] = seeded(s.x[i], dx[i]);
+  const AD1 E0 = seeded(props_->E.value(p), props_->E.boundTo(k) ? 1.0 : 0.0);
+  const AD1 nu = seeded(props_->nu.value(p), props_->nu.boundTo(k) ? 1.0 : 0.0);
+  MatT<AD1> E, S, sigma, dev;
+  membraneStressT<AD1>(x, E0, nu, E, S, sigma, dev);
+  dE = derivativeOf(E);
+  dS = derivativeOf(S);
+  dsigma = derivativeOf(sigma);
+  dVonMises = stressad::vonMisesDerivative(dev);
 }
 
 // ------------------------------------------------------------------ value templates

@@ -44,10 +44,20 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   /// rotated by the rest basis), the membrane Cauchy stress sigma = F S F^T / J (J the area
   /// ratio, thickness change ignored) [Pa] and its von Mises stress (plane stress) [Pa].
   void membraneStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, double& vonMises) const;
+  /// Their derivatives with respect to parameter k along dx = d x/dp_k of the 3 nodes'
+  /// positions (the run's dq/dp; 0 for ground nodes): the chain rule through F plus the
+  /// explicit dependence on E and nu (the thickness enters none of them), by forward AD of the
+  /// same template as membraneStress.
+  void membraneStressDerivative(const LocalState& s, const VecX& dx, int k, MatX& dE, MatX& dS, MatX& dsigma,
+                                double& dVonMises) const;
 
  private:
   friend class KernelElement<ShellTriangle>;
   void checkDim(const LocalState& s) const;
+  /// membraneStress for any scalar; dev: the deviatoric membrane Cauchy stress (3 x 3).
+  template <class T>
+  void membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,
+                       MatT<T>& dev) const;
   std::vector<const Quantity*> kernelProperties() const {
     return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha};
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "elements/KernelElementAD.hpp"
+#include "elements/StressDerivative.hpp"
 
 namespace flexsens {
 
@@ -288,32 +289,18 @@ void Solid::centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, d
 
 void Solid::centroidStressDerivative(const LocalState& s, const VecX& dx, int k, MatX& dE, MatX& dS, MatX& dsigma,
                                      double& dVonMises) const {
-  using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, 1, 1>>;
+  using stressad::AD1, stressad::seeded, stressad::derivativeOf;
   const VecX& p = *s.p;
-  auto seeded = [](double v, double dv) { return AD(v, Eigen::Matrix<double, 1, 1>::Constant(dv)); };
-  VecT<AD> x(dim_ * n_);
+  VecT<AD1> x(dim_ * n_);
   for (int i = 0; i < dim_ * n_; ++i) x[i] = seeded(s.x[i], dx[i]);
-  const AD E0 = seeded(props_->E.value(p), props_->E.boundTo(k) ? 1.0 : 0.0);
-  const AD nu = seeded(props_->nu.value(p), props_->nu.boundTo(k) ? 1.0 : 0.0);
-  MatT<AD> E, S, sigma, dev;
-  centroidStressT<AD>(x, E0, nu, E, S, sigma, dev);
-  auto derivative = [](const MatT<AD>& A) {
-    MatX D(A.rows(), A.cols());
-    for (int r = 0; r < A.rows(); ++r)
-      for (int c = 0; c < A.cols(); ++c) D(r, c) = A(r, c).derivatives()[0];
-    return D;
-  };
-  dE = derivative(E);
-  dS = derivative(S);
-  dsigma = derivative(sigma);
-  MatX devValue(3, 3);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) devValue(r, c) = dev(r, c).value();
-  const MatX ddev = derivative(dev);
-  const double vm = std::sqrt(1.5 * (devValue.array() * devValue.array()).sum());
-  // d sqrt(1.5 dev:dev) = 1.5 dev:ddev / vm
-  dVonMises = vm > 0.0 ? 1.5 * (devValue.array() * ddev.array()).sum() / vm
-                       : std::sqrt(1.5 * (ddev.array() * ddev.array()).sum());
+  const AD1 E0 = seeded(props_->E.value(p), props_->E.boundTo(k) ? 1.0 : 0.0);
+  const AD1 nu = seeded(props_->nu.value(p), props_->nu.boundTo(k) ? 1.0 : 0.0);
+  MatT<AD1> E, S, sigma, dev;
+  centroidStressT<AD1>(x, E0, nu, E, S, sigma, dev);
+  dE = derivativeOf(E);
+  dS = derivativeOf(S);
+  dsigma = derivativeOf(sigma);
+  dVonMises = stressad::vonMisesDerivative(dev);
 }
 
 template class KernelElement<Solid>;

@@ -226,25 +226,13 @@ TEST(SolidScene, StressSensitivitiesMatchCentralDifferencesOfRuns) {
       at.push_back(run(k, 1.0 + j * h, names[k] + std::to_string(j)));
       ASSERT_NE(at.back(), nullptr);
     }
+    // The scale: the largest derivative, or the stress over the parameter (dstress/dE is ~0.1 of that).
     for (const std::string base : {"stress_cauchy", "von_mises"}) {
-      vtkDataArray* d = g0->GetCellData()->GetArray(("d" + base + "/d" + names[k]).c_str());
-      ASSERT_NE(d, nullptr) << base << " " << names[k];
-      vtkDataArray* f0 = g0->GetCellData()->GetArray(base.c_str());
-      std::vector<vtkDataArray*> f;
-      for (auto& g : at) f.push_back(g->GetCellData()->GetArray(base.c_str()));
-      ASSERT_EQ(f[0]->GetNumberOfTuples(), d->GetNumberOfTuples());
-      // The scale: the largest derivative, or the stress over the parameter (dstress/dE is ~0.1 of that).
-      double worst = 0.0, scale = 0.0;
-      for (vtkIdType c = 0; c < d->GetNumberOfTuples(); ++c)
-        for (int j = 0; j < d->GetNumberOfComponents(); ++j) {
-          const double fd = (8.0 * (f[2]->GetComponent(c, j) - f[1]->GetComponent(c, j)) -
-                             (f[3]->GetComponent(c, j) - f[0]->GetComponent(c, j))) / (12.0 * h * nominal[k]);
-          worst = std::max(worst, std::abs(d->GetComponent(c, j) - fd));
-          scale = std::max({scale, std::abs(fd), std::abs(f0->GetComponent(c, j)) / nominal[k]});
-        }
+      const auto c = test::checkCellDerivative(g0, at, base, names[k], nominal[k], h);
       std::printf("  d%s/d%s: max |analytic - central difference| = %.2e, scale %.3e\n", base.c_str(), names[k].c_str(),
-                  worst, scale);
-      EXPECT_LT(worst, 1e-6 * scale) << base << " " << names[k];
+                  c.worst, c.scale);
+      ASSERT_GE(c.worst, 0.0) << "arrays missing: " << base << " " << names[k];
+      EXPECT_LT(c.worst, 1e-6 * c.scale) << base << " " << names[k];
     }
   }
   fs::remove_all(dir);

@@ -262,8 +262,8 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
   // centroid, at the nominal parameters, and their sensitivities d/dp (named like
   // "dstress_cauchy/dE": the chain rule through the run's dq/dp plus the explicit dependence on
   // E and nu, Solid::centroidStressDerivative); NaN on the other cells. Only when the model has one.
-  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses, no
-  // sensitivities (NaN).
+  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses and
+  // their sensitivities (ShellTriangle::membraneStressDerivative).
   bool anySolid = !shellCells.empty();
   for (const auto& el : m.elements) anySolid = anySolid || dynamic_cast<const Solid*>(el.get());
   // [0 .. 3]: strain, PK2, Cauchy, von Mises; then the same four per parameter.
@@ -302,7 +302,13 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
       cellArrays[1]->InsertNextTuple(S.data());
       cellArrays[2]->InsertNextTuple(sig.data());
       cellArrays[3]->InsertNextTuple(&vm);
-      for (size_t k = 4; k < cellArrays.size(); ++k) cellArrays[k]->InsertNextTuple(nans.data());
+      for (size_t k = 0; k < s.dp.size(); ++k) {
+        tri.membraneStressDerivative(ls, gatherNodes(tri.nodes(), s.dp[k].q, true), static_cast<int>(k), E, S, sig, vm);
+        cellArrays[4 * k + 4]->InsertNextTuple(E.data());
+        cellArrays[4 * k + 5]->InsertNextTuple(S.data());
+        cellArrays[4 * k + 6]->InsertNextTuple(sig.data());
+        cellArrays[4 * k + 7]->InsertNextTuple(&vm);
+      }
     }
     const VecX p = m.nominalParameters();
     for (size_t e = 0; e < m.elements.size(); ++e) {
