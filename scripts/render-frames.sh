@@ -2,7 +2,7 @@
 # Renders a flexsens VTK series (RUN_DIR/frames.pvd) to PNG frames with ParaView's pvbatch,
 # headless (under Xvfb), coloured by |dq/d<PARAM>|. See scripts/PARAVIEW.md.
 #
-#   render-frames.sh RUN_DIR OUT_DIR [PARAM] [--every N] [--size WxH] [--no-tube]
+#   render-frames.sh RUN_DIR OUT_DIR [PARAM] [--every N] [--size WxH] [--no-tube] [--warp S] [--view X,Y,Z]
 #   render-frames.sh --check      # exit 0 if ParaView is installed (scripts/install-paraview.sh)
 #   render-frames.sh --selftest   # exit 0 if pvbatch starts and renders headless
 #

@@ -1,6 +1,7 @@
 """Renders a flexsens VTK series to PNG frames; run by ParaView's pvbatch (scripts/render-frames.sh).
 
     pvbatch render_frames.py RUN_DIR OUT_DIR [PARAM] [--every N] [--size WxH] [--no-tube] [--warp S]
+                             [--view X,Y,Z]
 
 RUN_DIR holds frames.pvd + frame_NNNNN.vtu as written by `flexsens run` (points at the current
 positions, line cells, point data dq/d<param>). The lines (as tubes unless --no-tube) are
@@ -9,7 +10,9 @@ series (0 .. max over all frames) and a camera that frames the motion of all fra
 frames compare. Rigid bodies (element_kind 4, their basic frame A-B, A-C, A-D) are drawn as
 solids: the box on the three edges when they are orthogonal (the satellite's cube), else the
 tetrahedron of the four basic points, coloured by the same field (exact: a rigid body's
-dq/dp is affine in its points). Nodes are small spheres in the field's colours. --warp S draws
+dq/dp is affine in its points). Meshed bodies (triangles, tetrahedra, linear or quadratic) are
+surfaces in the field's colours with grey cell edges. The nodes of line elements are small
+spheres in the field's colours. --warp S draws
 the shape at q + S dq/dp. Writes OUT_DIR/frame_00000.png, frame_00001.png, ... (numbered
 consecutively; with --every N output frame k is series frame k*N) and RUN_DIR/view.pvsm, a
 ParaView state with the same pipeline (File > Load State). Exit code 1 on bad input.
@@ -109,6 +112,8 @@ def parse_args(argv):
     ap.add_argument("--no-tube", action="store_true", help="draw plain lines instead of tubes")
     ap.add_argument("--warp", type=float, default=0.0, metavar="S",
                     help="draw the shape at q + S dq/d<param> (S in units of the parameter; default 0)")
+    ap.add_argument("--view", default=None, metavar="X,Y,Z",
+                    help="3-D scenes: camera direction, from the scene towards the camera (default: oblique)")
     ap.add_argument("--no-state", action="store_true",
                     help="do not write RUN_DIR/view.pvsm (a ParaView state with this pipeline)")
     try:
@@ -126,6 +131,13 @@ def parse_args(argv):
     except ValueError:
         fail("--size must be WxH with W, H >= 16 pixels, got '%s'" % a.size)
     a.width, a.height = w, h
+    if a.view is not None:
+        try:
+            a.view = [float(v) for v in a.view.split(",")]
+            if len(a.view) != 3 or not any(v != 0.0 for v in a.view):
+                raise ValueError
+        except ValueError:
+            fail("--view must be three numbers X,Y,Z, not all zero, got '%s'" % a.view)
     return a
 
 
@@ -232,8 +244,34 @@ def main(argv):
     lut.RescaleTransferFunction(0.0, vmax)
     pv.GetOpacityTransferFunction(array).RescaleTransferFunction(0.0, vmax)
 
+    # Meshed bodies (cell data element_kind 5 solid cells, 8 shell triangles) as surfaces in the
+    # field's colours with thin grey cell edges (the tube filter above draws lines only): a
+    # triangle mesh is its faces, a tetrahedral one its outer faces. By kind, not cell type: ParaView 5.11 cannot select quadratic cell types.
+    def kind_only(k):
+        f = pv.Threshold(Input=source)
+        f.Scalars = ["CELLS", "element_kind"]
+        try:
+            f.LowerThreshold, f.UpperThreshold = k, k
+            f.ThresholdMethod = "Between"
+        except AttributeError:  # ParaView < 5.10
+            f.ThresholdRange = [k, k]
+        return f
+    meshed = pv.AppendDatasets(Input=[kind_only(5), kind_only(8)])
+    # Faces through their corners only: a quadratic face subdivided would draw its subdivision
+    # lines as edges and hatch the colours.
+    faces = pv.ExtractSurface(Input=meshed)
+    faces.NonlinearSubdivisionLevel = 0
+    faces_disp = pv.Show(faces, view)
+    faces_disp.SetRepresentationType("Surface With Edges")
+    faces_disp.EdgeColor = [0.4, 0.4, 0.4]
+    pv.ColorBy(faces_disp, ("POINTS", array, "Magnitude"))
+
     # nodes as small spheres in the field's colours: joints visible, the field not hidden
-    nodes = pv.Show(source, view)
+    # (the nodes of line elements only: a meshed body shows its nodes as the corners of its
+    # cell edges, and thousands of spheres would hide its surface)
+    line_cells = pv.ExtractCellsByType(Input=source)
+    line_cells.CellTypes = ["Line"]
+    nodes = pv.Show(line_cells, view)
     nodes.SetRepresentationType("Points")
     nodes.PointSize = max(3.0, 7.0 * px)
     nodes.RenderPointsAsSpheres = 1
@@ -300,7 +338,11 @@ def main(argv):
         iw = [i for i in inplane if i != ih][0]
         half_w, half_h = 0.5 * extent[iw], 0.5 * extent[ih]
     else:
-        direction = [1.0, -1.6, 0.9]
+        # oblique, turned towards the axis along which the motion is thinnest (a body swinging
+        # in a plane is seen nearly face-on), or the --view direction
+        direction = a.view or [b / (e / max(extent) + 0.25) for b, e in zip([1.0, -1.6, 0.9], extent)]
+        if abs(direction[2]) > max(abs(direction[0]), abs(direction[1])):
+            up = [0.0, 1.0, 0.0]  # seen mostly along Z: Y up
         norm = math.sqrt(sum(d * d for d in direction))
         direction = [d / norm for d in direction]
         half_w = half_h = 0.5 * diag

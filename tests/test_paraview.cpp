@@ -174,3 +174,48 @@ integrator: {type: trapezoidal, t_end: 0.02, dt: 1.0e-3, frame_interval: 0.01}
   EXPECT_NE(slurp(log).find("no dq/d<param> point arrays"), std::string::npos) << slurp(log);
   EXPECT_FALSE(fs::exists(tmp.dir / "png" / "frame_00000.png"));
 }
+
+// Meshed bodies are drawn as surfaces in the field's colours (element_kind 5 and 8 cells through
+// a threshold: the tube filter draws lines only, so before they showed as their nodes alone):
+// a grounded shell plate sagging under gravity, seen obliquely, must cover a visible share of
+// the picture left of the colour bar with saturated (colour-map) pixels; the grey cell edges,
+// the axes and the text are not saturated. The run directory gets the ParaView state view.pvsm.
+TEST(Paraview, DrawsMeshedBodiesAsSurfacesColouredByTheField) {
+  SKIP_WITHOUT_PARAVIEW();
+  Scratch tmp("mesh");
+  const fs::path scene = tmp.dir / "plate.yaml";
+  std::ofstream(scene) << "dimension: 3\ngravity: [0, 0, -9.81]\nelements:\n"
+                          "  - {name: plate, type: shell, mesh: " << sourceDir()
+                       << "/tests/scenes/shell/square.geo, group: plate, size: 0.25, E: 2.1e11, nu: 0.3,"
+                          " density: 7800, thickness: 0.002, ground: [edges]}\n"
+                          "parameters:\n  - {name: t, of: plate, property: thickness}\n"
+                          "integrator: {type: trapezoidal, t_end: 0.02, dt: 0.002, frame_interval: 0.01}\n";
+  const fs::path runDir = tmp.dir / "run";
+  ASSERT_EQ(exitCode(quote(FLEXSENS_EXE) + " run " + quote(scene.string()) + " --out " + quote(runDir.string()) +
+                     " > " + quote((tmp.dir / "run.log").string()) + " 2>&1"),
+            0)
+      << slurp(tmp.dir / "run.log");
+  const fs::path png = tmp.dir / "png";
+  const fs::path log = tmp.dir / "render.log";
+  ASSERT_EQ(exitCode("bash " + quote(renderScript()) + " " + quote(runDir.string()) + " " + quote(png.string()) +
+                     " t --size 640x360 > " + quote(log.string()) + " 2>&1"),
+            0)
+      << slurp(log);
+  const auto pngs = filesMatching(png, "frame_", ".png");
+  ASSERT_EQ(pngs.size(), 3u) << slurp(log);
+  EXPECT_TRUE(fs::exists(runDir / "view.pvsm"));
+  const fs::path stats = tmp.dir / "stats.txt";
+  std::ofstream(tmp.dir / "stats.py") << "import sys, numpy as np, matplotlib.image as mi\n"
+                                         "a = mi.imread(sys.argv[1])[..., :3]\n"
+                                         "a = a[:, : int(0.8 * a.shape[1])]  # left of the colour bar\n"
+                                         "print(float(np.mean(a.max(axis=2) - a.min(axis=2) > 0.15)))\n";
+  ASSERT_EQ(exitCode("/usr/bin/python3 " + quote((tmp.dir / "stats.py").string()) + " " +
+                     quote(pngs.back().string()) + " > " + quote(stats.string()) + " 2>&1"),
+            0)
+      << slurp(stats);
+  double coloured = 0.0;
+  std::istringstream in(slurp(stats));
+  ASSERT_TRUE(in >> coloured) << slurp(stats);
+  std::printf("share of colour-map pixels left of the colour bar: %.3f\n", coloured);
+  EXPECT_GT(coloured, 0.03) << "the plate is not drawn as a coloured surface";
+}
