@@ -115,4 +115,13 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
   return ids;
 }
 
+Law readMaterialLaw(const YamlReader& r, const YAML::Node& el, const std::string& path) {
+  if (!el["material"]) return Law::SaintVenantKirchhoff;
+  const std::string law = r.text(el["material"], path + ".material");
+  if (law == "neo_hookean") return Law::NeoHookean;
+  if (law != "saint_venant_kirchhoff")
+    r.fail(el["material"], path + ".material", "expected saint_venant_kirchhoff or neo_hookean; got '" + law + "'");
+  return Law::SaintVenantKirchhoff;
+}
+
 }  // namespace flexsens

@@ -1,11 +1,12 @@
 // Scene keys shared by the readers of meshed bodies (solid: elements/SolidReader.cpp, shell:
 // elements/ShellReader.cpp): the Gmsh mesh (mesh, group, size, order) and the body's nodes
-// (names from Physical Points, ground groups, initial velocity).
+// (names from Physical Points, ground groups, initial velocity), and the material law.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "elements/Material.hpp"
 #include "meshes/GmshMesh.hpp"
 #include "scene/SceneContext.hpp"
 
@@ -21,5 +22,8 @@ BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string
 /// A planar scene takes x, y of a mesh in the plane z = 0.
 std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
                               const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group);
+
+/// The key `material`: saint_venant_kirchhoff (default) or neo_hookean.
+Law readMaterialLaw(const YamlReader& r, const YAML::Node& el, const std::string& path);
 
 }  // namespace flexsens

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/Types.hpp"
+#include "elements/Material.hpp"
 
 namespace flexsens {
 
@@ -19,6 +20,9 @@ struct ShellProperties {
   Quantity density;           ///< [kg/m^3]
   Quantity thickness;         ///< [m]
   Quantity alpha{0.0, -1};    ///< mass-proportional damping [1/s]
+  /// The membrane's law, always in plane stress (S33 = 0); the hinges' bending stays linear in
+  /// the dihedral angle with D from E, nu, thickness (small bending strains of a thin shell).
+  MaterialLaw law{Law::SaintVenantKirchhoff, PlanarState::PlaneStress};
   std::vector<std::pair<std::string, Quantity*>> properties() {
     return {{"E", &E}, {"nu", &nu}, {"density", &density}, {"thickness", &thickness}, {"alpha", &alpha}};
   }

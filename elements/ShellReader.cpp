@@ -4,6 +4,7 @@
 //     mesh: panel.geo          # .geo (meshed here) or .msh (taken as is), relative to the scene
 //     group: panel             # Physical Surface: linear triangles (flat or curved)
 //     size: 0.05               # maximum element size [m] (.geo only; default: the file's sizes)
+//     material: neo_hookean    # membrane law in plane stress; default saint_venant_kirchhoff
 //     E: 7.0e10                # [Pa]
 //     nu: 0.33                 # [-], -1 < nu < 0.5
 //     density: 2700            # [kg/m^3]
@@ -27,10 +28,11 @@ namespace flexsens {
 void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
-  r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "E", "nu", "density", "thickness", "rest_shape", "damping",
-                        "ground", "velocity", "angular_velocity", "center"});
+  r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "material", "E", "nu", "density", "thickness",
+                        "rest_shape", "damping", "ground", "velocity", "angular_velocity", "center"});
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
+  props->law.law = readMaterialLaw(r, el, path);
   props->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
   const double nu = r.number(r.require(el, "nu", path), path + ".nu");
   if (!(nu > -1.0 && nu < 0.5))

@@ -11,9 +11,6 @@ namespace flexsens {
 namespace {
 /// Consistent mass pattern of a linear triangle per unit rho t A: (1 + delta_ij) / 12.
 double massShape(int i, int j) { return (i == j ? 2.0 : 1.0) / 12.0; }
-/// Plane-stress Lame pair (mu, lambda*) [Pa] from E [Pa], nu [-].
-template <class T> T muOf(const T& E, const T& nu) { return E / (2.0 * (1.0 + nu)); }
-template <class T> T lambdaStarOf(const T& E, const T& nu) { return E * nu / (1.0 - nu * nu); }
 }  // namespace
 
 ShellTriangle::ShellTriangle(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props,
@@ -55,11 +52,11 @@ template <class T>
 void ShellTriangle::membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S,
                                     MatT<T>& sigma, MatT<T>& dev) const {
   using std::sqrt;
-  const T mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  const T mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
   MatT<T> F = MatT<T>::Zero(3, 2);
   for (int i = 0; i < 3; ++i) F += x.template segment<3>(3 * i) * G_.row(i).template cast<T>();
   const MatT<T> C = F.transpose() * F, I = MatT<T>::Identity(2, 2);
-  const MatT<T> E2 = 0.5 * (C - I), S2 = (lam * E2.trace()) * I + (2.0 * mu) * E2;
+  const MatT<T> E2 = 0.5 * (C - I), S2 = props_->law.stress<T>(E2, mu, lam, "shell triangle " + name());
   const MatT<T> B = basis_.template cast<T>();
   E = B * E2 * B.transpose();
   S = B * S2 * B.transpose();
@@ -108,7 +105,7 @@ MatT<T> ShellTriangle::massT(const LocalState&, const VecT<T>& props) const {
 template <class T>
 VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const {
   checkDim(s);
-  const T mu = muOf(props[0], props[1]), lam = lambdaStarOf(props[0], props[1]);
+  const T mu = material::mu(props[0], props[1]), lam = material::lambda(props[0], props[1]);
   const T t = props[3], m = props[2] * props[3] * A_, alpha = props[4];
   const bool hasV = v.size() == x.size();
   VecT<T> Q = VecT<T>::Zero(9);
@@ -120,7 +117,7 @@ VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<
   MatT<T> F = MatT<T>::Zero(3, 2);
   for (int i = 0; i < 3; ++i) F += x.template segment<3>(3 * i) * G_.row(i).template cast<T>();
   const MatT<T> E = 0.5 * (F.transpose() * F - MatT<T>::Identity(2, 2));
-  const MatT<T> S = (lam * E.trace()) * MatT<T>::Identity(2, 2) + (2.0 * mu) * E;
+  const MatT<T> S = props_->law.stress<T>(E, mu, lam, "shell triangle " + name());
   const MatT<T> P = F * S;
   for (int i = 0; i < 3; ++i) Q.template segment<3>(3 * i) -= (A_ * t) * (P * G_.row(i).transpose().template cast<T>());
   return Q;
@@ -131,7 +128,7 @@ void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) c
   checkDim(s);
   const VecX& p = *s.p;
   const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
-  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
+  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
   const double m = props_->density.value(p) * t * A_, alpha = props_->alpha.value(p);
   dQdq.setZero(9, 9);
   dQdv.setZero(9, 9);
@@ -141,13 +138,13 @@ void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) c
   for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
   const MatX I = MatX::Identity(2, 2);
   const MatX E = 0.5 * (F.transpose() * F - I);
-  const MatX S = lam * E.trace() * I + 2.0 * mu * E;
+  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name());
   for (int j = 0; j < 3; ++j)
     for (int c = 0; c < 3; ++c) {
       MatX dF = MatX::Zero(3, 2);
       dF.row(c) = G_.row(j);
       const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
-      const MatX dS = lam * dE.trace() * I + 2.0 * mu * dE;
+      const MatX dS = props_->law.tangent(E, mu, lam, dE);
       const MatX dP = dF * S + F * dS;  // d(F S)/dx_jc
       for (int i = 0; i < 3; ++i) dQdq.block(3 * i, 3 * j + c, 3, 1) = -(A_ * t) * dP * G_.row(i).transpose();
     }
@@ -161,11 +158,10 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
   const VecX& p = *s.p;
   const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
   const double rho = props_->density.value(p), alpha = props_->alpha.value(p);
-  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
-  // d mu = dE / (2 (1 + nu)) - E dnu / (2 (1 + nu)^2); d lambda* = nu dE / (1 - nu^2) + E (1 + nu^2) dnu / (1 - nu^2)^2
-  const double w = 1.0 - nu * nu;
-  const double dmu = dYoung / (2.0 * (1.0 + nu)) - E0 * dNu / (2.0 * (1.0 + nu) * (1.0 + nu));
-  const double dlam = nu * dYoung / w + E0 * (1.0 + nu * nu) * dNu / (w * w);
+  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
+  double muE, muNu, lamE, lamNu;
+  material::lameDerivatives(E0, nu, muE, muNu, lamE, lamNu);
+  const double dmu = muE * dYoung + muNu * dNu, dlam = lamE * dYoung + lamNu * dNu;
   const double dm = (dRho * t + rho * dT) * A_;  // d(rho t A) [kg]
   dQ.setZero(9);
   const bool hasV = s.v.size() == s.x.size();
@@ -179,8 +175,10 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
   for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
   const MatX I = MatX::Identity(2, 2);
   const MatX E = 0.5 * (F.transpose() * F - I);
-  const MatX S = lam * E.trace() * I + 2.0 * mu * E;
-  const MatX dS = dlam * E.trace() * I + 2.0 * dmu * E;
+  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name());
+  MatX dSmu, dSlam;
+  props_->law.stressDerivatives(E, mu, lam, dSmu, dSlam);
+  const MatX dS = dmu * dSmu + dlam * dSlam;
   const MatX dP = F * (dT * S + t * dS);  // d(t F S)
   for (int i = 0; i < 3; ++i) dQ.segment<3>(3 * i) -= A_ * dP * G_.row(i).transpose();
   dM.setZero(9, 9);
@@ -193,9 +191,8 @@ double ShellTriangle::potential(const LocalState& s) const {
   checkDim(s);
   const VecX& p = *s.p;
   const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
-  const double mu = muOf(E0, nu), lam = lambdaStarOf(E0, nu);
   const MatX E = strain(s.x);
-  double U = A_ * t * (0.5 * lam * E.trace() * E.trace() + mu * (E.array() * E.array()).sum());
+  double U = A_ * t * props_->law.energy(E, material::mu(E0, nu), material::lambda(E0, nu));
   if (s.gravity) {  // minus the work of gravity [J]
     const double m = props_->density.value(p) * t * A_;
     for (int i = 0; i < 3; ++i) U -= (m / 3.0) * s.gravity->dot(s.x.segment<3>(3 * i));

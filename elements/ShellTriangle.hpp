@@ -5,9 +5,11 @@
 // Constant strain triangle, total Lagrangian on the rest triangle X0, X1, X2 [m]: with an
 // orthonormal basis (t1, t2) of the rest plane, Dm = [X1 - X0, X2 - X0] in that basis (2x2),
 //   F = [x1 - x0, x2 - x0] Dm^-1  (3x2),  E = (F^T F - I) / 2  (2x2, Green-Lagrange),
-//   S = lambda* tr(E) I + 2 mu E  (St. Venant-Kirchhoff in plane stress, S33 = 0),
-//   mu = E / (2 (1 + nu)), lambda* = E nu / (1 - nu^2)  [Pa],
-//   U = A t (lambda*/2 tr(E)^2 + mu E:E)  [J],   Q_i = -A t F S G_i,  G_i = dN_i/dX (2).
+//   S = S(E) in plane stress (S33 = 0; elements/Material.hpp): St. Venant-Kirchhoff
+//   S = lambda* tr(E) I + 2 mu E, lambda* = E nu / (1 - nu^2), or compressible neo-Hookean
+//   S = mu (I - c C^-1) with the thickness stretch^2 c from S33 = 0 (the thickness follows
+//   the membrane's area change), mu = E / (2 (1 + nu)) [Pa],
+//   U = A t W(E)  [J],   Q_i = -A t F S G_i,  G_i = dN_i/dX (2).
 // A the rest area [m^2], t the thickness [m]. Frame-indifferent: any rigid motion of the rest
 // triangle gives E = 0 and Q = 0. No drilling or transverse stiffness of its own.
 // Mass: consistent and constant, M = rho t A / 12 (1 + delta_ij) I3 [kg]; gravity Q_i =

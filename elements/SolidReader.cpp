@@ -56,12 +56,7 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   auto props = std::make_shared<SolidProperties>();
   props->dim = d;
   // --- material -------------------------------------------------------------------------
-  if (el["material"]) {
-    const std::string law = r.text(el["material"], path + ".material");
-    if (law == "neo_hookean") props->law.law = Law::NeoHookean;
-    else if (law != "saint_venant_kirchhoff")
-      r.fail(el["material"], path + ".material", "expected saint_venant_kirchhoff or neo_hookean; got '" + law + "'");
-  }
+  props->law.law = readMaterialLaw(r, el, path);
   props->law.planar = d == 3 ? PlanarState::None : PlanarState::PlaneStress;
   if (el["state"]) {
     if (d == 3) r.fail(el["state"], path + ".state", "a spatial solid has no planar state: remove state");

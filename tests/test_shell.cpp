@@ -52,8 +52,9 @@ namespace {
 /// differences in each parameter stay above round-off.
 VecX shellParams() { return (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished(); }
 /// Properties bound to p = shellParams() when `bound`, else constants of those values.
-std::shared_ptr<ShellProperties> shellProps(bool bound) {
+std::shared_ptr<ShellProperties> shellProps(bool bound, Law law = Law::SaintVenantKirchhoff) {
   auto pr = std::make_shared<ShellProperties>();
+  pr->law.law = law;
   const VecX v = shellParams();
   Quantity* q[5] = {&pr->E, &pr->nu, &pr->density, &pr->thickness, &pr->alpha};
   for (int k = 0; k < 5; ++k) *q[k] = bound ? Quantity{0.0, k} : Quantity{v[k], -1};
@@ -109,10 +110,14 @@ void expectKernelsAgree(const Element& e, const VecX& x, const VecX& v, int np) 
 TEST(Shell, TriangleDerivativesAgainstFiniteDifferencesAndAD) {
   VecX X(9);
   X << 0.0, 0.0, 0.0, 0.3, 0.05, 0.02, 0.08, 0.25, -0.03;
-  ShellTriangle e("t", {0, 1, 2}, shellProps(true), X);
   std::srand(3);
   const VecX x = X + 0.05 * VecX::Random(9), v = 0.4 * VecX::Random(9);
-  expectKernelsAgree(e, x, v, 5);
+  for (const Law law : {Law::SaintVenantKirchhoff, Law::NeoHookean}) {
+    SCOPED_TRACE(law == Law::NeoHookean ? "neo-Hookean" : "St. Venant-Kirchhoff");
+    ShellTriangle e("t", {0, 1, 2}, shellProps(true, law), X);
+    expectKernelsAgree(e, x, v, 5);
+  }
+  ShellTriangle e("t", {0, 1, 2}, shellProps(true), X);
   // mass: M = rho t A / 12 (1 + delta_ij) I, total rho t A
   Local L(x, v, false);
   MatX M;
@@ -309,6 +314,56 @@ TEST(Shell, UniformStretchGivesTheMembraneForceExactly) {
       EXPECT_LT((sig - sige).norm(), 1e-10 * sige.norm());
       EXPECT_NEAR(vm, std::sqrt(s1 * s1 - s1 * s2 + s2 * s2), 1e-10 * std::abs(s1));
     }
+  }
+}
+
+// Neo-Hookean membrane (material: neo_hookean): a triangle stretched uniformly in its plane by
+// l1, l2 (large: 40% and -15%) against the 3-D compressible neo-Hookean law written out here,
+// S = mu (I - C^-1) + lambda ln J C^-1 with C = diag(l1^2, l2^2, c) in the stretch axes, the
+// thickness stretch^2 c found by bisection on S33(c) = 0 (the free faces of a thin sheet).
+// The shell's in-plane S must be that S's 2x2 block, and its nodal forces -A t F S G_i.
+TEST(Shell, NeoHookeanMembraneUnderLargeStretchMatchesThe3DLawWithFreeFaces) {
+  const double E0 = shellParams()[0], nu = shellParams()[1], t = shellParams()[3];
+  const double mu = E0 / (2 * (1 + nu)), lam = E0 * nu / ((1 + nu) * (1 - 2 * nu));
+  const double l1 = 1.4, l2 = 0.85;
+  auto s33 = [&](double c) { return mu * (1 - 1 / c) + lam * 0.5 * std::log(l1 * l1 * l2 * l2 * c) / c; };
+  double lo = 1e-3, hi = 10.0;  // S33 increases with c: bisection to round-off
+  for (int it = 0; it < 200; ++it) (s33(0.5 * (lo + hi)) > 0 ? hi : lo) = 0.5 * (lo + hi);
+  const double c = 0.5 * (lo + hi), lnJ = 0.5 * std::log(l1 * l1 * l2 * l2 * c);
+  const double S11 = mu * (1 - 1 / (l1 * l1)) + lam * lnJ / (l1 * l1);
+  const double S22 = mu * (1 - 1 / (l2 * l2)) + lam * lnJ / (l2 * l2);
+  EXPECT_LT(std::abs(s33(c)), 1e-9 * mu);
+  // a rest triangle in a tilted plane, its edge 0-1 along d1, the stretch along d1 and d2
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, -0.4, 0.7).normalized()).toRotationMatrix();
+  const Eigen::Vector3d d1 = R.col(0), d2 = R.col(1), o(0.1, 0.2, -0.3);
+  VecX X(9), x(9);
+  const double xy[3][2] = {{0, 0}, {0.3, 0}, {0.1, 0.2}};
+  for (int i = 0; i < 3; ++i) {
+    X.segment<3>(3 * i) = o + xy[i][0] * d1 + xy[i][1] * d2;
+    x.segment<3>(3 * i) = o + l1 * xy[i][0] * d1 + l2 * xy[i][1] * d2;
+  }
+  ShellTriangle e("t", {0, 1, 2}, shellProps(false, Law::NeoHookean), X);
+  const VecX p(0);
+  LocalState ls;
+  ls.dim = 3;
+  ls.p = &p;
+  ls.x = x;
+  MatX Eg, S, sig;
+  double vm;
+  e.membraneStress(ls, Eg, S, sig, vm);
+  const MatX Se = S11 * d1 * d1.transpose() + S22 * d2 * d2.transpose();
+  std::printf("neo-Hookean: thickness stretch %.6f, S11 %.6e S22 %.6e Pa; shell |S - S_3D| = %.2e Pa\n", std::sqrt(c),
+              S11, S22, (S - Se).norm());
+  EXPECT_LT((S - Se).norm(), 1e-10 * Se.norm());
+  // forces: Q_i = -A t F S G_i with F = l1 d1 d1^T + l2 d2 d2^T on the plane, G_i = grad N_i
+  const double A = 0.5 * 0.3 * 0.2;
+  const Eigen::Vector2d G[3] = {{-1 / 0.3, (0.1 / 0.3 - 1) / 0.2}, {1 / 0.3, -0.1 / 0.3 / 0.2}, {0, 1 / 0.2}};
+  VecX Q;
+  ls.v = VecX::Zero(9);
+  e.force(ls, Q);
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d expected = -A * t * (l1 * S11 * G[i][0] * d1 + l2 * S22 * G[i][1] * d2);
+    EXPECT_LT((Q.segment<3>(3 * i) - expected).norm(), 1e-10 * expected.norm()) << "node " << i;
   }
 }
 
