@@ -2,7 +2,7 @@
 // elements/ShellHinge.hpp bending), shared by its elements, and the plate constants they
 // derive from them.
 //
-// Units: E [Pa], nu [-], density [kg/m^3], thickness [m], alpha [1/s].
+// Units: E [Pa], nu [-], density [kg/m^3], thickness [m], alpha [1/s], beta [s].
 #pragma once
 
 #include <string>
@@ -20,11 +20,12 @@ struct ShellProperties {
   Quantity density;           ///< [kg/m^3]
   Quantity thickness;         ///< [m]
   Quantity alpha{0.0, -1};    ///< mass-proportional damping [1/s]
+  Quantity beta{0.0, -1};     ///< stiffness-proportional (Kelvin-Voigt) damping [s]
   /// The membrane's law, always in plane stress (S33 = 0); the hinges' bending stays linear in
   /// the dihedral angle with D from E, nu, thickness (small bending strains of a thin shell).
   MaterialLaw law{Law::SaintVenantKirchhoff, PlanarState::PlaneStress};
   std::vector<std::pair<std::string, Quantity*>> properties() {
-    return {{"E", &E}, {"nu", &nu}, {"density", &density}, {"thickness", &thickness}, {"alpha", &alpha}};
+    return {{"E", &E}, {"nu", &nu}, {"density", &density}, {"thickness", &thickness}, {"alpha", &alpha}, {"beta", &beta}};
   }
 };
 

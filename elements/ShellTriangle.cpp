@@ -9,6 +9,11 @@
 namespace flexsens {
 
 namespace {
+/// The rest (small-strain) plane-stress elasticity applied to a symmetric A:
+/// C0 : A = lambda* tr(A) I + 2 mu A [Pa], lambda* = 2 lambda mu / (lambda + 2 mu).
+template <class T> MatT<T> elasticity0(const T& mu, const T& lamStar, const MatT<T>& A) {
+  return (lamStar * A.trace()) * MatT<T>::Identity(A.rows(), A.cols()) + (2.0 * mu) * A;
+}
 /// Consistent mass pattern of a linear triangle per unit rho t A: (1 + delta_ij) / 12.
 double massShape(int i, int j) { return (i == j ? 2.0 : 1.0) / 12.0; }
 }  // namespace
@@ -36,6 +41,16 @@ ShellTriangle::ShellTriangle(std::string name, std::vector<int> nodes, std::shar
   G_.row(0) = -(Di.row(0) + Di.row(1));
   basis_.resize(3, 2);
   basis_ << t1, t2;
+}
+
+void ShellTriangle::kinematics(const LocalState& s, MatX& F, MatX& Fd) const {
+  F = MatX::Zero(3, 2);
+  Fd = MatX::Zero(3, 2);
+  const bool hasV = s.v.size() == s.x.size();
+  for (int i = 0; i < 3; ++i) {
+    F += s.x.segment<3>(3 * i) * G_.row(i);
+    if (hasV) Fd += s.v.segment<3>(3 * i) * G_.row(i);
+  }
 }
 
 void ShellTriangle::checkDim(const LocalState& s) const {
@@ -91,7 +106,7 @@ void ShellTriangle::membraneStressDerivative(const LocalState& s, const VecX& dx
 }
 
 // ------------------------------------------------------------------ value templates
-// props = (E, nu, density, thickness, alpha).
+// props = (E, nu, density, thickness, alpha, beta).
 template <class T>
 MatT<T> ShellTriangle::massT(const LocalState&, const VecT<T>& props) const {
   const T m = props[2] * props[3] * A_;  // rho t A [kg]
@@ -106,7 +121,8 @@ template <class T>
 VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const {
   checkDim(s);
   const T mu = material::mu(props[0], props[1]), lam = material::lambda(props[0], props[1]);
-  const T t = props[3], m = props[2] * props[3] * A_, alpha = props[4];
+  const T t = props[3], m = props[2] * props[3] * A_, alpha = props[4], beta = props[5];
+  const T lamStar = material::planeStressLambda(mu, lam);
   const bool hasV = v.size() == x.size();
   VecT<T> Q = VecT<T>::Zero(9);
   for (int i = 0; i < 3; ++i) {
@@ -117,7 +133,13 @@ VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<
   MatT<T> F = MatT<T>::Zero(3, 2);
   for (int i = 0; i < 3; ++i) F += x.template segment<3>(3 * i) * G_.row(i).template cast<T>();
   const MatT<T> E = 0.5 * (F.transpose() * F - MatT<T>::Identity(2, 2));
-  const MatT<T> S = props_->law.stress<T>(E, mu, lam, "shell triangle " + name());
+  MatT<T> S = props_->law.stress<T>(E, mu, lam, "shell triangle " + name());
+  if (hasV) {  // Kelvin-Voigt: beta C0 : dE/dt
+    MatT<T> Fd = MatT<T>::Zero(3, 2);
+    for (int i = 0; i < 3; ++i) Fd += v.template segment<3>(3 * i) * G_.row(i).template cast<T>();
+    const MatT<T> B = F.transpose() * Fd;
+    S += beta * elasticity0<T>(mu, lamStar, 0.5 * (B + B.transpose()));
+  }
   const MatT<T> P = F * S;
   for (int i = 0; i < 3; ++i) Q.template segment<3>(3 * i) -= (A_ * t) * (P * G_.row(i).transpose().template cast<T>());
   return Q;
@@ -130,30 +152,36 @@ void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) c
   const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
   const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
   const double m = props_->density.value(p) * t * A_, alpha = props_->alpha.value(p);
+  const double beta = props_->beta.value(p), lamStar = material::planeStressLambda(mu, lam);
   dQdq.setZero(9, 9);
   dQdv.setZero(9, 9);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) dQdv.block<3, 3>(3 * i, 3 * j) = -(alpha * m * massShape(i, j)) * Eigen::Matrix3d::Identity();
-  MatX F = MatX::Zero(3, 2);
-  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
+  MatX F, Fd;
+  kinematics(s, F, Fd);
   const MatX I = MatX::Identity(2, 2);
-  const MatX E = 0.5 * (F.transpose() * F - I);
-  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name());
+  const MatX E = 0.5 * (F.transpose() * F - I), Bv = F.transpose() * Fd, Ed = 0.5 * (Bv + Bv.transpose());
+  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name()) + beta * elasticity0(mu, lamStar, Ed);
   for (int j = 0; j < 3; ++j)
     for (int c = 0; c < 3; ++c) {
       MatX dF = MatX::Zero(3, 2);
       dF.row(c) = G_.row(j);
       const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
-      const MatX dS = props_->law.tangent(E, mu, lam, dE);
-      const MatX dP = dF * S + F * dS;  // d(F S)/dx_jc
-      for (int i = 0; i < 3; ++i) dQdq.block(3 * i, 3 * j + c, 3, 1) = -(A_ * t) * dP * G_.row(i).transpose();
+      const MatX Bd = dF.transpose() * Fd, dEd = 0.5 * (Bd + Bd.transpose());
+      const MatX dS = props_->law.tangent(E, mu, lam, dE) + beta * elasticity0(mu, lamStar, dEd);
+      const MatX dP = dF * S + F * dS;                               // d(F S)/dx_jc
+      const MatX dPv = beta * F * elasticity0(mu, lamStar, dE);      // d(F S)/dv_jc
+      for (int i = 0; i < 3; ++i) {
+        dQdq.block(3 * i, 3 * j + c, 3, 1) = -(A_ * t) * dP * G_.row(i).transpose();
+        dQdv.block(3 * i, 3 * j + c, 3, 1) -= (A_ * t) * dPv * G_.row(i).transpose();
+      }
     }
 }
 
 bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
-               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k);
-  if (!(dYoung || dNu || dRho || dT || dAlpha)) return false;
+               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k), dBeta = props_->beta.boundTo(k);
+  if (!(dYoung || dNu || dRho || dT || dAlpha || dBeta)) return false;
   checkDim(s);
   const VecX& p = *s.p;
   const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
@@ -162,6 +190,9 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
   double muE, muNu, lamE, lamNu;
   material::lameDerivatives(E0, nu, muE, muNu, lamE, lamNu);
   const double dmu = muE * dYoung + muNu * dNu, dlam = lamE * dYoung + lamNu * dNu;
+  const double beta = props_->beta.value(p), lamStar = material::planeStressLambda(mu, lam);
+  const double sum = lam + 2.0 * mu;  // d lambda* = (2 lambda^2 dmu + 4 mu^2 dlambda) / (lambda + 2 mu)^2
+  const double dLamStar = (2.0 * lam * lam * dmu + 4.0 * mu * mu * dlam) / (sum * sum);
   const double dm = (dRho * t + rho * dT) * A_;  // d(rho t A) [kg]
   dQ.setZero(9);
   const bool hasV = s.v.size() == s.x.size();
@@ -171,14 +202,14 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
       for (int j = 0; j < 3; ++j)
         dQ.segment<3>(3 * i) -= ((dAlpha * rho * t * A_ + alpha * dm) * massShape(i, j)) * s.v.segment<3>(3 * j);
   }
-  MatX F = MatX::Zero(3, 2);
-  for (int i = 0; i < 3; ++i) F += s.x.segment<3>(3 * i) * G_.row(i);
+  MatX F, Fd;
+  kinematics(s, F, Fd);
   const MatX I = MatX::Identity(2, 2);
-  const MatX E = 0.5 * (F.transpose() * F - I);
-  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name());
+  const MatX E = 0.5 * (F.transpose() * F - I), Bv = F.transpose() * Fd, Ed = 0.5 * (Bv + Bv.transpose());
+  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name()) + beta * elasticity0(mu, lamStar, Ed);
   MatX dSmu, dSlam;
   props_->law.stressDerivatives(E, mu, lam, dSmu, dSlam);
-  const MatX dS = dmu * dSmu + dlam * dSlam;
+  const MatX dS = dmu * dSmu + dlam * dSlam + dBeta * elasticity0(mu, lamStar, Ed) + beta * elasticity0(dmu, dLamStar, Ed);
   const MatX dP = F * (dT * S + t * dS);  // d(t F S)
   for (int i = 0; i < 3; ++i) dQ.segment<3>(3 * i) -= A_ * dP * G_.row(i).transpose();
   dM.setZero(9, 9);

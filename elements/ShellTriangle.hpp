@@ -13,8 +13,10 @@
 // A the rest area [m^2], t the thickness [m]. Frame-indifferent: any rigid motion of the rest
 // triangle gives E = 0 and Q = 0. No drilling or transverse stiffness of its own.
 // Mass: consistent and constant, M = rho t A / 12 (1 + delta_ij) I3 [kg]; gravity Q_i =
-// rho t A / 3 g; optional mass-proportional damping Q = -alpha M v.
-// Design parameters: E, nu, density, thickness, alpha.
+// rho t A / 3 g; optional Rayleigh damping: mass-proportional Q = -alpha M v and the
+// Kelvin-Voigt membrane stress beta C0 : dE/dt (C0 the rest plane-stress elasticity: beta K0 v
+// at small strain, zero under rigid motion; the hinges carry its bending part).
+// Design parameters: E, nu, density, thickness, alpha, beta.
 #pragma once
 
 #include <memory>
@@ -56,12 +58,14 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
  private:
   friend class KernelElement<ShellTriangle>;
   void checkDim(const LocalState& s) const;
+  /// F = sum x_i G_i^T and its rate Fd = sum v_i G_i^T (3 x 2; Fd = 0 without velocities).
+  void kinematics(const LocalState& s, MatX& F, MatX& Fd) const;
   /// membraneStress for any scalar; dev: the deviatoric membrane Cauchy stress (3 x 3).
   template <class T>
   void membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,
                        MatT<T>& dev) const;
   std::vector<const Quantity*> kernelProperties() const {
-    return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha};
+    return {&props_->E, &props_->nu, &props_->density, &props_->thickness, &props_->alpha, &props_->beta};
   }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;

@@ -47,17 +47,17 @@ using flexsens::test::relMax;
 
 namespace {
 
-/// p = (E, nu, density, thickness, alpha): a soft sheet (rubber-like) with strong damping, so
+/// p = (E, nu, density, thickness, alpha, beta): a soft sheet (rubber-like) with strong damping, so
 /// that at a 5% strain the elastic, weight and damping forces are of one order and central
 /// differences in each parameter stay above round-off.
-VecX shellParams() { return (VecX(5) << 2.0e5, 0.3, 1200.0, 0.004, 20.0).finished(); }
+VecX shellParams() { return (VecX(6) << 2.0e5, 0.3, 1200.0, 0.004, 20.0, 0.02).finished(); }
 /// Properties bound to p = shellParams() when `bound`, else constants of those values.
 std::shared_ptr<ShellProperties> shellProps(bool bound, Law law = Law::SaintVenantKirchhoff) {
   auto pr = std::make_shared<ShellProperties>();
   pr->law.law = law;
   const VecX v = shellParams();
-  Quantity* q[5] = {&pr->E, &pr->nu, &pr->density, &pr->thickness, &pr->alpha};
-  for (int k = 0; k < 5; ++k) *q[k] = bound ? Quantity{0.0, k} : Quantity{v[k], -1};
+  Quantity* q[6] = {&pr->E, &pr->nu, &pr->density, &pr->thickness, &pr->alpha, &pr->beta};
+  for (int k = 0; k < 6; ++k) *q[k] = bound ? Quantity{0.0, k} : Quantity{v[k], -1};
   return pr;
 }
 
@@ -115,7 +115,7 @@ TEST(Shell, TriangleDerivativesAgainstFiniteDifferencesAndAD) {
   for (const Law law : {Law::SaintVenantKirchhoff, Law::NeoHookean}) {
     SCOPED_TRACE(law == Law::NeoHookean ? "neo-Hookean" : "St. Venant-Kirchhoff");
     ShellTriangle e("t", {0, 1, 2}, shellProps(true, law), X);
-    expectKernelsAgree(e, x, v, 5);
+    expectKernelsAgree(e, x, v, 6);
   }
   ShellTriangle e("t", {0, 1, 2}, shellProps(true), X);
   // mass: M = rho t A / 12 (1 + delta_ij) I, total rho t A
