@@ -27,7 +27,8 @@ BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string
 }
 
 std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
-                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group) {
+                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
+                              std::vector<MeshNodeGroup>* clamp) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   const int d = m.dim;
@@ -74,15 +75,19 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
     }
     return it->second;
   };
-  if (el["ground"]) {
-    const YAML::Node gl = el["ground"];
-    r.requireList(gl, path + ".ground");
+  for (const char* fixKey : {"ground", "clamp"}) {
+    const bool isClamp = std::string(fixKey) == "clamp";
+    if (!el[fixKey] || (isClamp && !clamp)) continue;
+    const YAML::Node gl = el[fixKey];
+    r.requireList(gl, path + "." + fixKey);
     for (size_t k = 0; k < gl.size(); ++k) {
-      const std::string key = at(path + ".ground", k);
-      for (int i : groupNodes(gl[k], key, r.text(gl[k], key))) {
+      const std::string key = at(path + "." + fixKey, k), g = r.text(gl[k], key);
+      const std::vector<int> nodes = groupNodes(gl[k], key, g);
+      for (int i : nodes) {
         m.nodes[ids[i]].ground = true;
         m.nodes[ids[i]].velocity = VecX::Zero(d);
       }
+      if (isClamp) clamp->push_back({gl[k], key, g, nodes});
     }
   }
   // --- initial velocity: v_i = velocity + omega x (x_i - center) ----------------------------

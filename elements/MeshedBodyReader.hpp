@@ -17,11 +17,22 @@ namespace flexsens {
 BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string& path, int elementDim, bool withOrder,
                       YAML::Node& meshKey);
 
+/// One entry of a scene list of mesh node groups: its YAML node, key path, group name and the
+/// group's mesh nodes (indices into the mesh).
+struct MeshNodeGroup {
+  YAML::Node at;
+  std::string key, name;
+  std::vector<int> nodes;
+};
+
 /// Scene nodes of the mesh's nodes, in mesh order (an existing node of the same name is shared
 /// when at the same place), then the keys `ground`, `velocity`, `angular_velocity`, `center`.
-/// A planar scene takes x, y of a mesh in the plane z = 0.
+/// A planar scene takes x, y of a mesh in the plane z = 0. clamp (shell): when given, the key
+/// `clamp` too, a list of groups whose nodes are fixed as by `ground`; its entries are returned
+/// there (the caller adds what a clamp holds beyond the nodes).
 std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
-                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group);
+                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
+                              std::vector<MeshNodeGroup>* clamp = nullptr);
 
 /// The key `material`: saint_venant_kirchhoff (default) or neo_hookean.
 Law readMaterialLaw(const YamlReader& r, const YAML::Node& el, const std::string& path);

@@ -4,6 +4,7 @@
 
 #include "elements/BodyTriad.hpp"
 #include "elements/KernelElementAD.hpp"
+#include "elements/ShellDihedralAngle.hpp"
 
 namespace flexsens {
 
@@ -22,34 +23,7 @@ using triad::V3;
 using triad::cross;
 using triad::skew;
 
-/// |n1| |n2| below this times |e|^4 is a triangle of zero area.
-constexpr double kDegenerateTol = 1e-12;
-
-/// theta and its gradient (12) at x (12) for any scalar; false for a zero edge or triangle.
-template <class T>
-bool angleT(const VecT<T>& x, T& theta, VecT<T>& g) {
-  using std::sqrt;
-  using std::atan2;
-  const V3<T> x0 = x.template segment<3>(0);
-  const V3<T> e = x.template segment<3>(3) - x0, a = x.template segment<3>(6) - x0, b = x.template segment<3>(9) - x0;
-  const T ee = e.dot(e), ea = e.dot(a), eb = e.dot(b), ab = a.dot(b);
-  if (!(ad::valueOf(ee) > 0.0)) return false;
-  const T L = sqrt(ee);
-  const V3<T> axb = cross(a, b);
-  const T det = e.dot(axb);
-  const T X = ea * eb - ee * ab, Y = L * det, R = X * X + Y * Y;
-  if (!(std::sqrt(ad::valueOf(R)) > kDegenerateTol * ad::valueOf(ee) * ad::valueOf(ee))) return false;
-  const V3<T> gXe = eb * a + ea * b - (2.0 * ab) * e, gXa = eb * e - ee * b, gXb = ea * e - ee * a;
-  const V3<T> gYe = (det / L) * e + L * axb, gYa = L * cross(b, e), gYb = L * cross(e, a);
-  const V3<T> te = (X * gYe - Y * gXe) / R, ta = (X * gYa - Y * gXa) / R, tb = (X * gYb - Y * gXb) / R;
-  theta = atan2(Y, X);
-  g.resize(12);
-  g.template segment<3>(0) = -(te + ta + tb);
-  g.template segment<3>(3) = te;
-  g.template segment<3>(6) = ta;
-  g.template segment<3>(9) = tb;
-  return true;
-}
+using shell::angleT;
 
 /// d(e, a, b)/d(x0, x1, x2, x3), 9 x 12.
 MatX edgeMap() {
@@ -62,17 +36,13 @@ MatX edgeMap() {
   return B;
 }
 
-std::string degenerateMessage(const std::string& who) {
-  return who + ": a triangle of the hinge has zero area (or its edge zero length): the dihedral angle is undefined";
-}
-
 }  // namespace
 
 double ShellHinge::dihedralAngle(const VecX& x, VecX* grad, MatX* hess, const std::string& who) {
   if (x.size() != 12) throw std::invalid_argument(who + ": positions of 4 nodes in 3D (12 entries) expected");
   double theta;
   VecX g;
-  if (!angleT<double>(x, theta, g)) throw NumericalError(degenerateMessage(who));
+  if (!angleT<double>(x, theta, g)) throw NumericalError(shell::degenerateMessage(who));
   if (grad) *grad = g;
   if (hess) {
     const Eigen::Vector3d x0 = x.segment<3>(0);
@@ -134,7 +104,7 @@ VecT<T> ShellHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&
   checkDim(s);
   T theta;
   VecT<T> g;
-  if (!angleT<T>(x, theta, g)) throw NumericalError(degenerateMessage("shell hinge " + name()));
+  if (!angleT<T>(x, theta, g)) throw NumericalError(shell::degenerateMessage("shell hinge " + name()));
   const T D = shell::bendingStiffness(props[0], props[1], props[2]);
   const T dev = ad::wrapAngle(T(theta - theta0_));
   return -(D * w_ * dev) * g;

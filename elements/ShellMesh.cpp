@@ -3,6 +3,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "elements/ShellClampHinge.hpp"
 #include "elements/ShellHinge.hpp"
 #include "elements/ShellTriangle.hpp"
 
@@ -11,7 +12,8 @@ namespace flexsens {
 ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vector3d>& rest,
                            const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                            const std::shared_ptr<ShellProperties>& props, bool flatRest,
-                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label) {
+                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
+                           const std::vector<bool>& clamped) {
   ShellMeshCounts n;
   auto nodesOf = [&](const std::vector<int>& mesh) {
     std::string s;
@@ -39,6 +41,14 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
   for (const auto& [e, wings] : edges) {
     if (wings.size() == 1) {
       ++n.boundaryEdges;
+      if (!clamped.empty() && clamped[e.first] && clamped[e.second]) {
+        const std::array<int, 3> c{e.first, e.second, wings[0].second};
+        VecX X(9);
+        for (int j = 0; j < 3; ++j) X.segment<3>(3 * j) = rest[c[j]];
+        out.push_back(std::make_unique<ShellClampHinge>(name + ".clamp" + std::to_string(n.clamps),
+                                                        std::vector<int>{ids[c[0]], ids[c[1]], ids[c[2]]}, props, X));
+        ++n.clamps;
+      }
       continue;
     }
     if (wings.size() > 2)
@@ -54,6 +64,16 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
     ++n.hinges;
   }
   return n;
+}
+
+std::vector<std::pair<int, int>> shellBoundaryEdges(const std::vector<std::array<int, 3>>& tris) {
+  std::map<std::pair<int, int>, int> count;
+  for (const auto& t : tris)
+    for (int j = 0; j < 3; ++j) ++count[{std::min(t[j], t[(j + 1) % 3]), std::max(t[j], t[(j + 1) % 3])}];
+  std::vector<std::pair<int, int>> out;
+  for (const auto& [e, c] : count)
+    if (c == 1) out.push_back(e);
+  return out;
 }
 
 }  // namespace flexsens

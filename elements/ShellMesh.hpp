@@ -1,14 +1,16 @@
 // A discrete shell from a triangle mesh: one ShellTriangle (membrane, mass) per triangle and
 // one ShellHinge (bending) per interior edge, the edge shared by exactly two triangles.
 // Boundary edges (one triangle) carry no hinge: a free or simply supported edge (the
-// rotation about it costs nothing). An edge of three or more triangles (non-manifold) is an
-// error: one dihedral angle per edge is then undefined.
+// rotation about it costs nothing), unless both its nodes are clamped: then a ShellClampHinge
+// (elements/ShellClampHinge.hpp) holds its triangle's rotation about it. An edge of three or
+// more triangles (non-manifold) is an error: one dihedral angle per edge is then undefined.
 #pragma once
 
 #include <array>
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/Element.hpp"
@@ -17,17 +19,23 @@
 namespace flexsens {
 
 struct ShellMeshCounts {
-  int triangles = 0, hinges = 0, boundaryEdges = 0;
+  int triangles = 0, hinges = 0, boundaryEdges = 0, clamps = 0;
 };
 
 /// rest: rest positions of the mesh nodes [m]; tris: node indices (into rest and ids) of each
 /// triangle; ids: model node of each mesh node. Elements are named <name>.tri<k> and
-/// <name>.hinge<k>. flatRest: every hinge's rest angle is 0 (else the rest mesh's angle).
-/// label(i) names mesh node i in messages. Throws std::invalid_argument for a degenerate
+/// <name>.hinge<k>, <name>.clamp<k>. flatRest: every hinge's rest angle is 0 (else the rest mesh's angle).
+/// label(i) names mesh node i in messages. clamped (empty, or one flag per mesh node): a
+/// boundary edge whose two nodes are both clamped gets a clamp hinge (the caller fixes those
+/// nodes). Throws std::invalid_argument for a degenerate
 /// triangle or a non-manifold edge.
 ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vector3d>& rest,
                            const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                            const std::shared_ptr<ShellProperties>& props, bool flatRest,
-                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label);
+                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
+                           const std::vector<bool>& clamped = {});
+
+/// The boundary edges (node pairs i < j, each in one triangle only) of triangles tris.
+std::vector<std::pair<int, int>> shellBoundaryEdges(const std::vector<std::array<int, 3>>& tris);
 
 }  // namespace flexsens

@@ -12,13 +12,18 @@
 //     rest_shape: initial      # or flat: hinges at rest when flat (dihedral angle 0)
 //     damping: {alpha: 0.5}    # optional: alpha M v [1/s]
 //     ground: [hinge_edge]     # Physical Points or node groups whose nodes are fixed
+//     clamp: [root_edge]       # Physical Curves on the boundary: nodes fixed, edges clamped
 //     velocity: [0, 0, 1]      # optional initial velocity [m/s] of every free node, plus
 //     angular_velocity: [0, 0, 2]  # omega [rad/s] about center (default 0)
 // rest_shape: the membranes' rest state is always the mesh; `initial` (default) takes each
 // hinge's rest angle from the mesh too (the body starts at rest), `flat` makes it 0 (a curved
 // mesh then starts bent and springs towards flat). Nodes on Physical Points take the point's
 // name; the others are "<body>.<Gmsh node tag>". Properties E, nu, density, thickness, alpha
-// are bindable as parameters.
+// are bindable as parameters. clamp: the group's nodes are fixed as by ground, and each
+// boundary edge of the mesh with both nodes in a clamp group gets a ShellClampHinge
+// (elements/ShellClampHinge.hpp) holding its triangle's rest orientation (slope zero across the
+// edge); a group with no such edge (a point, an interior curve, a curve of another surface) is
+// an error.
 #include "elements/MeshedBodyReader.hpp"
 #include "elements/ShellMesh.hpp"
 #include "scene/KindTable.hpp"
@@ -29,7 +34,7 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "material", "E", "nu", "density", "thickness",
-                        "rest_shape", "damping", "ground", "velocity", "angular_velocity", "center"});
+                        "rest_shape", "damping", "ground", "clamp", "velocity", "angular_velocity", "center"});
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
   props->law.law = readMaterialLaw(r, el, path);
@@ -58,12 +63,28 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   if (mesh.shape != Simplex::Tri3)
     r.fail(meshKey, path + ".mesh", "Physical Surface '" + group + "' holds " + simplexName(mesh.shape) +
                                         " elements; expected linear triangles (3 nodes) for a shell");
-  const std::vector<int> ids = addMeshNodes(ctx, el, path, name, mesh, meshKey, group);
+  std::vector<MeshNodeGroup> clampGroups;
+  const std::vector<int> ids = addMeshNodes(ctx, el, path, name, mesh, meshKey, group, &clampGroups);
   std::vector<std::array<int, 3>> tris;
   for (const auto& c : mesh.cells) tris.push_back({c[0], c[1], c[2]});
+  std::vector<bool> clamped;
+  if (!clampGroups.empty()) {
+    clamped.assign(mesh.positions.size(), false);
+    const auto boundary = shellBoundaryEdges(tris);
+    for (const MeshNodeGroup& cg : clampGroups) {
+      std::vector<bool> in(mesh.positions.size(), false);
+      for (int i : cg.nodes) in[i] = clamped[i] = true;
+      bool hasEdge = false;
+      for (const auto& [i, j] : boundary) hasEdge = hasEdge || (in[i] && in[j]);
+      if (!hasEdge)
+        r.fail(cg.at, cg.key, "group '" + cg.name + "' holds no boundary edge of the shell (no edge of a single triangle with both "
+                              "nodes in the group); expected a Physical Curve on the boundary of " + group +
+                              " (a clamp holds the rotation about an edge)");
+    }
+  }
   try {
     buildShell(name, mesh.positions, tris, ids, props, flatRest, m.elements,
-               [&](int i) { return std::to_string(mesh.gmshTags[i]); });
+               [&](int i) { return std::to_string(mesh.gmshTags[i]); }, clamped);
   } catch (const std::invalid_argument& e) {
     r.fail(meshKey, path + ".mesh", std::string(e.what()) + "; the node numbers are Gmsh node tags");
   }

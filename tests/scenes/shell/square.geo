@@ -1,5 +1,6 @@
 // Square plate a = 1 m in the plane z = 0 (flexsens shell tests): Physical Surface "plate",
-// its four edges "edges" (simply supported when grounded: no hinge on a boundary edge), the
+// its four edges "edges" (simply supported when grounded: no hinge on a boundary edge; clamped
+// with `clamp: [edges]`), the
 // corner "corner" and the centre "centre" (a mesh node).
 a = 1.0;
 Point(1) = {0, 0, 0};

@@ -1,0 +1,51 @@
+// The dihedral angle of a discrete-shell hinge (elements/ShellHinge.hpp: the angle, its
+// notation and its derivatives) as a value template on the scalar, shared by the interior hinge
+// and the clamped-edge hinge (elements/ShellClampHinge.hpp). Include from .cpp files only (it
+// needs elements/AutoDiff.hpp's ad::valueOf).
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "elements/AutoDiff.hpp"
+#include "elements/BodyTriad.hpp"
+
+namespace flexsens::shell {
+
+using triad::V3;
+using triad::cross;
+
+/// |n1| |n2| below this times |e|^4 is a triangle of zero area.
+constexpr double kDegenerateTol = 1e-12;
+
+/// theta and its gradient (12) at x (12) for any scalar; false for a zero edge or triangle.
+template <class T>
+bool angleT(const VecT<T>& x, T& theta, VecT<T>& g) {
+  using std::sqrt;
+  using std::atan2;
+  const V3<T> x0 = x.template segment<3>(0);
+  const V3<T> e = x.template segment<3>(3) - x0, a = x.template segment<3>(6) - x0, b = x.template segment<3>(9) - x0;
+  const T ee = e.dot(e), ea = e.dot(a), eb = e.dot(b), ab = a.dot(b);
+  if (!(ad::valueOf(ee) > 0.0)) return false;
+  const T L = sqrt(ee);
+  const V3<T> axb = cross(a, b);
+  const T det = e.dot(axb);
+  const T X = ea * eb - ee * ab, Y = L * det, R = X * X + Y * Y;
+  if (!(std::sqrt(ad::valueOf(R)) > kDegenerateTol * ad::valueOf(ee) * ad::valueOf(ee))) return false;
+  const V3<T> gXe = eb * a + ea * b - (2.0 * ab) * e, gXa = eb * e - ee * b, gXb = ea * e - ee * a;
+  const V3<T> gYe = (det / L) * e + L * axb, gYa = L * cross(b, e), gYb = L * cross(e, a);
+  const V3<T> te = (X * gYe - Y * gXe) / R, ta = (X * gYa - Y * gXa) / R, tb = (X * gYb - Y * gXb) / R;
+  theta = atan2(Y, X);
+  g.resize(12);
+  g.template segment<3>(0) = -(te + ta + tb);
+  g.template segment<3>(3) = te;
+  g.template segment<3>(6) = ta;
+  g.template segment<3>(9) = tb;
+  return true;
+}
+
+inline std::string degenerateMessage(const std::string& who) {
+  return who + ": a triangle of the hinge has zero area (or its edge zero length): the dihedral angle is undefined";
+}
+
+}  // namespace flexsens::shell
