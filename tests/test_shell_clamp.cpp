@@ -6,7 +6,8 @@
 // derivation), Kirchhoff's energy D/2 kappa^2 per unit area of a clamped cylinder, Leissa's
 // frequency parameters of the clamped square plate (A. W. Leissa, Vibration of Plates, NASA
 // SP-160, 1969: lambda = omega a^2 sqrt(rho t / D) = 35.985, 73.394, 73.394) and the cantilever
-// strip's tip deflection P L^3 / (3 D b).
+// strip's tip deflection P L^3 / (3 D b), and sensitivities of a clamped strip's motion by
+// central differences of whole runs.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -22,6 +23,7 @@
 #include "elements/ShellClampHinge.hpp"
 #include "elements/ShellHinge.hpp"
 #include "elements/ShellMesh.hpp"
+#include "app/Run.hpp"
 #include "scene/Scene.hpp"
 
 using namespace flexsens;
@@ -435,5 +437,49 @@ TEST(ShellClamp, SceneCantileverStripUnderOwnWeight) {
     EXPECT_NEAR(w, -wl[zdof[tip]], 1e-6 * w);
     EXPECT_GT((w - ref) / ref, 0.02);
     EXPECT_LT((w - ref) / ref, 0.09);
+  }
+}
+
+// Sensitivities through the clamp: the strip of strip.geo (coarse, size 0.25, soft) clamped at
+// its root, released at rest under gravity, trapezoidal rule for 0.04 s: d(tip z)/d(thickness,
+// E, nu) by direct differentiation against central differences of whole perturbed runs (step
+// 1e-5 |p|, to 1e-6 of the largest |dd|) and AD against dd (1e-10).
+TEST(ShellClamp, StripSensitivitiesMatchCentralDifferencesAndAD) {
+  const std::string text =
+      "dimension: 3\ngravity: [0, 0, -9.81]\nelements:\n  - {name: strip, type: shell, mesh: strip.geo, group: strip, size: 0.25,"
+      " E: 2.0e8, nu: 0.3, density: 1000, thickness: 0.01, clamp: [root]}\nparameters:\n  - {name: t, of: strip, property: thickness}\n"
+      "  - {name: E, of: strip, property: E}\n  - {name: nu, of: strip, property: nu}\n"
+      "integrator: {type: trapezoidal, t_end: 0.04, dt: 0.002}\n";
+  const Scene sc = readSceneText(text, test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+  const Model& m = *sc.model;
+  int clamps = 0;
+  for (const auto& el : m.elements) clamps += el->kind() == "shell_clamp";
+  EXPECT_GT(clamps, 0);
+  Assembler as(m);
+  Assembler adAs(m, Derivatives::AutomaticDifferentiation);
+  const VecX p = m.nominalParameters();
+  auto set = test::integratorSettings("trapezoidal", 0.002, 0.04);
+  set.frameInterval = 0.01;
+  test::Recorder dd, ad;
+  integrate(as, p, initialState(as, p), set, dd);
+  integrate(adAs, p, initialState(adAs, p), set, ad);
+  const int z = m.dof(m.nodeIndex("tip"), 2);
+  EXPECT_LT(dd.frames.back().x.q[z], -1e-4);  // it bends [m]
+  for (size_t k = 0; k < m.parameters.size(); ++k) {
+    const double h = 1e-5 * std::abs(p[k]);
+    const auto [plus, minus] = test::runsAtPlusMinus(as, p, k, h, set);
+    ASSERT_EQ(plus.frames.size(), dd.frames.size());
+    double scale = 0.0, errNd = 0.0, errAd = 0.0;
+    for (size_t f = 1; f < dd.frames.size(); ++f) scale = std::max(scale, std::abs(dd.frames[f].dp[k].q[z]));
+    for (size_t f = 1; f < dd.frames.size(); ++f) {
+      const double nd = (plus.frames[f].x.q[z] - minus.frames[f].x.q[z]) / (2 * h);
+      errNd = std::max(errNd, std::abs(dd.frames[f].dp[k].q[z] - nd));
+      errAd = std::max(errAd, std::abs(dd.frames[f].dp[k].q[z] - ad.frames[f].dp[k].q[z]));
+    }
+    std::printf("  d(tip z)/d%-3s at 0.04 s %+.6e; max |dd - nd| / max|dd| %.2e, |dd - ad| %.2e\n",
+                m.parameters[k].name.c_str(), dd.frames.back().dp[k].q[z], errNd / scale, errAd / scale);
+    EXPECT_GT(scale, 0.0) << m.parameters[k].name;
+    EXPECT_LE(errNd, 1e-6 * scale) << m.parameters[k].name;
+    EXPECT_LE(errAd, 1e-10 * scale) << m.parameters[k].name;
   }
 }
