@@ -41,10 +41,11 @@ double ShellClampHinge::rotation(const VecX& x) const {
   return ad::wrapAngle(ShellHinge::dihedralAngle(withGhost(x), nullptr, nullptr, "shell clamp " + name()) - phi0_);
 }
 
-// Value template: props = (E, nu, thickness). Q = -D w phi grad phi, the ghost a constant (its
+// Value template: props = (E, nu, thickness, beta). Q = -D w (phi + beta dphi/dt) grad phi,
+// dphi/dt = grad phi . v (the hinge's Kelvin-Voigt term, ShellHinge.cpp), the ghost a constant (its
 // entries carry x's derivative layout, all zero, so that it meets x's scalars as they do).
 template <class T>
-VecT<T> ShellClampHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&, const VecT<T>& props) const {
+VecT<T> ShellClampHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const {
   checkDim(s);
   VecT<T> y(12);
   y.head(9) = x;
@@ -54,7 +55,9 @@ VecT<T> ShellClampHinge::forceT(const LocalState& s, const VecT<T>& x, const Vec
   if (!shell::angleT<T>(y, phi, g)) throw NumericalError(shell::degenerateMessage("shell clamp " + name()));
   const T D = shell::bendingStiffness(props[0], props[1], props[2]);
   const T dev = ad::wrapAngle(T(phi - phi0_));
-  return -(D * w_ * dev) * g.head(9);
+  const VecT<T> g9 = g.head(9);
+  const T rate = v.size() == x.size() ? T(g9.dot(v)) : T(0.0);
+  return -(D * w_ * (dev + props[3] * rate)) * g9;
 }
 
 void ShellClampHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -64,22 +67,29 @@ void ShellClampHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv)
   const double phi = ShellHinge::dihedralAngle(withGhost(s.x), &g, &H, "shell clamp " + name());
   const VecX& p = *s.p;
   const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  const double dev = ad::wrapAngle(phi - phi0_);
+  const double dev = ad::wrapAngle(phi - phi0_), beta = props_->beta.value(p);
   const VecX g9 = g.head(9);  // the ghost is fixed: the x-blocks of the 4-node angle's derivatives
-  dQdq = -(D * w_) * (g9 * g9.transpose() + dev * H.topLeftCorner(9, 9));  // [N/m]
-  dQdv.setZero(9, 9);
+  const MatX H9 = H.topLeftCorner(9, 9);
+  const VecX v = s.v.size() == s.x.size() ? s.v : VecX(VecX::Zero(9));
+  const double rate = g9.dot(v);
+  dQdq = -(D * w_) * (g9 * (g9 + beta * (H9 * v)).transpose() + (dev + beta * rate) * H9);  // [N/m]
+  dQdv = -(D * w_ * beta) * (g9 * g9.transpose());                                            // [N s/m]
 }
 
 bool ShellClampHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dT = props_->thickness.boundTo(k);
-  if (!(dYoung || dNu || dT)) return false;
+  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dT = props_->thickness.boundTo(k),
+               dBeta = props_->beta.boundTo(k);
+  if (!(dYoung || dNu || dT || dBeta)) return false;
   checkDim(s);
   const VecX& p = *s.p;
   double DE, DNu, DT;
   shell::bendingStiffnessDerivatives(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p), DE, DNu, DT);
   VecX g;
   const double dev = ad::wrapAngle(ShellHinge::dihedralAngle(withGhost(s.x), &g, nullptr, "shell clamp " + name()) - phi0_);
-  dQ = -((DE * dYoung + DNu * dNu + DT * dT) * w_ * dev) * g.head(9);
+  const VecX g9 = g.head(9);
+  const double rate = s.v.size() == s.x.size() ? g9.dot(s.v) : 0.0, beta = props_->beta.value(p);
+  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
+  dQ = -(((DE * dYoung + DNu * dNu + DT * dT) * (dev + beta * rate) + D * dBeta * rate) * w_) * g9;
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }

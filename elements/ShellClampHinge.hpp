@@ -54,7 +54,9 @@ class ShellClampHinge : public KernelElement<ShellClampHinge> {
   void checkDim(const LocalState& s) const;
   /// x (9) and the ghost: the 12 positions of ShellHinge::dihedralAngle.
   VecX withGhost(const VecX& x) const;
-  std::vector<const Quantity*> kernelProperties() const { return {&props_->E, &props_->nu, &props_->thickness}; }
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&props_->E, &props_->nu, &props_->thickness, &props_->beta};
+  }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
 

@@ -98,16 +98,18 @@ void ShellHinge::checkDim(const LocalState& s) const {
   if (s.dim != 3 || s.x.size() != 12) throw std::invalid_argument("shell hinge " + name() + ": spatial only (dim must be 3)");
 }
 
-// Value template: props = (E, nu, thickness). Q = -D w (theta - theta0) grad theta.
+// Value template: props = (E, nu, thickness, beta).
+// Q = -D w (theta - theta0 + beta dtheta/dt) grad theta, dtheta/dt = grad theta . v.
 template <class T>
-VecT<T> ShellHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&, const VecT<T>& props) const {
+VecT<T> ShellHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const {
   checkDim(s);
   T theta;
   VecT<T> g;
   if (!angleT<T>(x, theta, g)) throw NumericalError(shell::degenerateMessage("shell hinge " + name()));
   const T D = shell::bendingStiffness(props[0], props[1], props[2]);
   const T dev = ad::wrapAngle(T(theta - theta0_));
-  return -(D * w_ * dev) * g;
+  const T rate = v.size() == x.size() ? T(g.dot(v)) : T(0.0);
+  return -(D * w_ * (dev + props[3] * rate)) * g;
 }
 
 void ShellHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
@@ -117,21 +119,27 @@ void ShellHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) cons
   const double theta = dihedralAngle(s.x, &g, &H, "shell hinge " + name());
   const VecX& p = *s.p;
   const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  const double dev = ad::wrapAngle(theta - theta0_);
-  dQdq = -(D * w_) * (g * g.transpose() + dev * H);  // [N/m]
-  dQdv.setZero(12, 12);
+  const double dev = ad::wrapAngle(theta - theta0_), beta = props_->beta.value(p);
+  const VecX v = s.v.size() == s.x.size() ? s.v : VecX(VecX::Zero(12));
+  const double rate = g.dot(v);
+  // Q = -D w s g, s = dev + beta g.v: dQ/dq = -D w (g (g + beta H v)^T + s H), dQ/dv = -D w beta g g^T
+  dQdq = -(D * w_) * (g * (g + beta * (H * v)).transpose() + (dev + beta * rate) * H);  // [N/m]
+  dQdv = -(D * w_ * beta) * (g * g.transpose());                                         // [N s/m]
 }
 
 bool ShellHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dT = props_->thickness.boundTo(k);
-  if (!(dYoung || dNu || dT)) return false;
+  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dT = props_->thickness.boundTo(k),
+               dBeta = props_->beta.boundTo(k);
+  if (!(dYoung || dNu || dT || dBeta)) return false;
   checkDim(s);
   const VecX& p = *s.p;
   double DE, DNu, DT;
   shell::bendingStiffnessDerivatives(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p), DE, DNu, DT);
   VecX g;
   const double dev = ad::wrapAngle(dihedralAngle(s.x, &g, nullptr, "shell hinge " + name()) - theta0_);
-  dQ = -((DE * dYoung + DNu * dNu + DT * dT) * w_ * dev) * g;
+  const double rate = s.v.size() == s.x.size() ? g.dot(s.v) : 0.0, beta = props_->beta.value(p);
+  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
+  dQ = -(((DE * dYoung + DNu * dNu + DT * dT) * (dev + beta * rate) + D * dBeta * rate) * w_) * g;
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }

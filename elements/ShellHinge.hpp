@@ -25,7 +25,10 @@
 // meshes converge to Kirchhoff's plate (near-equilateral ones, at first order).
 // theta - theta0 is wrapped to (-pi, pi]; a triangle of zero area (n1 or n2 = 0) is a
 // NumericalError. No membrane-bending coupling beyond the geometry (flat rest: none at the
-// linear level). Units: positions [m], D [N m], forces [N], energy [J].
+// linear level). Damping (the bending part of the shell's Kelvin-Voigt beta, ShellTriangle.hpp
+// has the membrane's): the moment beta D w dtheta/dt, Q = -D w (theta - theta0 + beta
+// dtheta/dt) grad theta, so beta K0 v at small motion and none under rigid motion.
+// Units: positions [m], D [N m], forces [N], energy [J], beta [s].
 #pragma once
 
 #include <memory>
@@ -60,7 +63,9 @@ class ShellHinge : public KernelElement<ShellHinge> {
  private:
   friend class KernelElement<ShellHinge>;
   void checkDim(const LocalState& s) const;
-  std::vector<const Quantity*> kernelProperties() const { return {&props_->E, &props_->nu, &props_->thickness}; }
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&props_->E, &props_->nu, &props_->thickness, &props_->beta};
+  }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
 

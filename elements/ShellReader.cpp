@@ -10,7 +10,7 @@
 //     density: 2700            # [kg/m^3]
 //     thickness: 0.002         # [m]
 //     rest_shape: initial      # or flat: hinges at rest when flat (dihedral angle 0)
-//     damping: {alpha: 0.5}    # optional: alpha M v [1/s]
+//     damping: {alpha: 0.5, beta: 1e-4}  # optional Rayleigh: alpha M v [1/s], Kelvin-Voigt beta [s]
 //     ground: [hinge_edge]     # Physical Points or node groups whose nodes are fixed
 //     clamp: [root_edge]       # Physical Curves on the boundary: nodes fixed, edges clamped
 //     velocity: [0, 0, 1]      # optional initial velocity [m/s] of every free node, plus
@@ -18,8 +18,8 @@
 // rest_shape: the membranes' rest state is always the mesh; `initial` (default) takes each
 // hinge's rest angle from the mesh too (the body starts at rest), `flat` makes it 0 (a curved
 // mesh then starts bent and springs towards flat). Nodes on Physical Points take the point's
-// name; the others are "<body>.<Gmsh node tag>". Properties E, nu, density, thickness, alpha
-// are bindable as parameters. clamp: the group's nodes are fixed as by ground, and each
+// name; the others are "<body>.<Gmsh node tag>". Properties E, nu, density, thickness, alpha,
+// beta are bindable as parameters. clamp: the group's nodes are fixed as by ground, and each
 // boundary edge of the mesh with both nodes in a clamp group gets a ShellClampHinge
 // (elements/ShellClampHinge.hpp) holding its triangle's rest orientation (slope zero across the
 // edge); a group with no such edge (a point, an interior curve, a curve of another surface) is
@@ -54,8 +54,9 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   if (el["damping"]) {
     const YAML::Node dn = el["damping"];
     const std::string dp = path + ".damping";
-    r.allowKeys(dn, dp, {"alpha"});
+    r.allowKeys(dn, dp, {"alpha", "beta"});
     if (dn["alpha"]) props->alpha = {r.nonNegative(dn["alpha"], dp + ".alpha"), -1};
+    if (dn["beta"]) props->beta = {r.nonNegative(dn["beta"], dp + ".beta"), -1};
   }
   YAML::Node meshKey;
   const BodyMesh mesh = readBodyMesh(ctx, el, path, 2, false, meshKey);

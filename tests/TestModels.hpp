@@ -152,6 +152,24 @@ inline void expectParameterDerivatives(const Element& e, const LocalState& s, Ve
   }
 }
 
+/// Element e's analytic force Jacobians at s (positions and velocities): dQ/dq and dQ/dv
+/// equal AD's to 1e-10 and central differences of the force to 1e-6 (neither may be zero),
+/// then its parameter derivatives (expectParameterDerivatives). For damped kernels.
+inline void expectDampedKernels(const Element& e, const LocalState& s, VecX& p, int np) {
+  MatX K, Kv, Kad, Kvad;
+  e.forceJacobian(s, K, Kv);
+  e.forceJacobianAD(s, Kad, Kvad);
+  EXPECT_GT(K.norm(), 0.0);
+  EXPECT_GT(Kv.norm(), 0.0);
+  EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+  EXPECT_LT(relMax(Kvad, Kv), 1e-10) << "AD vs analytic dQ/dv";
+  auto fq = [&](const VecX& q) { LocalState t = s; t.x = q; VecX Q; e.force(t, Q); return Q; };
+  auto fv = [&](const VecX& w) { LocalState t = s; t.v = w; VecX Q; e.force(t, Q); return Q; };
+  EXPECT_LT(relMax(fdJacobian(fq, s.x), K), 1e-6) << "FD vs analytic dQ/dq";
+  EXPECT_LT(relMax(fdJacobian(fv, s.v, 1e-4), Kv), 1e-6) << "FD vs analytic dQ/dv";
+  expectParameterDerivatives(e, s, p, np);
+}
+
 /// Relative error |a - b| / max(|b|, floor) in the max norm.
 inline double relErr(const MatX& a, const MatX& b, double floor = 1.0) {
   return (a - b).lpNorm<Eigen::Infinity>() / std::max(b.lpNorm<Eigen::Infinity>(), floor);

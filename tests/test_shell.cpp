@@ -143,6 +143,7 @@ TEST(Shell, HingeDerivativesAgainstFiniteDifferencesAndAD) {
       pr->E = {0.0, 0};
       pr->nu = {0.0, 1};
       pr->thickness = {0.0, 2};
+      pr->beta = {0.0, -1};  // undamped first: Q = -dU/dq
       ShellHinge e("h", {0, 1, 2, 3}, pr, X, flatRest);
       std::srand(5);
       const VecX x = X + 0.03 * VecX::Random(12), v = VecX::Random(12);
@@ -164,6 +165,12 @@ TEST(Shell, HingeDerivativesAgainstFiniteDifferencesAndAD) {
       MatX M;
       EXPECT_FALSE(e.mass(L.s, M));  // massless
       EXPECT_NEAR(e.restAngle(), flatRest ? 0.0 : fold, 1e-12);
+      // Kelvin-Voigt: beta -> 3 (the moment beta D w dtheta/dt is of the elastic one's order)
+      pr->beta = {0.0, 3};
+      VecX p4 = (VecX(4) << 2.0e6, 0.3, 0.004, 0.01).finished();
+      L.s.p = &p4;
+      flexsens::test::expectDampedKernels(e, L.s, p4, 4);
+      pr->beta = {0.0, -1};
     }
   }
 }

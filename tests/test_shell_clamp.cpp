@@ -19,6 +19,7 @@
 #include "ShellPlates.hpp"
 #include "TestModels.hpp"
 #include "core/Assembler.hpp"
+#include "core/SparseAccumulator.hpp"
 #include "integrators/Static.hpp"
 #include "elements/ShellClampHinge.hpp"
 #include "elements/ShellHinge.hpp"
@@ -95,6 +96,13 @@ TEST(ShellClamp, DerivativesAgainstFiniteDifferencesAndAD) {
     expectParameterDerivatives(e, s, p3, 3);
     MatX M;
     EXPECT_FALSE(e.mass(s, M));  // massless
+    // Kelvin-Voigt (beta bound to parameter 3): dQ/dv and d/dbeta too
+    auto damped = boundProps();
+    damped->beta = {0.0, 3};
+    ShellClampHinge ed("c", {0, 1, 2}, damped, X);
+    VecX p4 = (VecX(4) << 2.0e6, 0.3, 0.004, 0.01).finished();
+    s.p = &p4;
+    flexsens::test::expectDampedKernels(ed, s, p4, 4);
   }
 }
 
@@ -481,5 +489,58 @@ TEST(ShellClamp, StripSensitivitiesMatchCentralDifferencesAndAD) {
     EXPECT_GT(scale, 0.0) << m.parameters[k].name;
     EXPECT_LE(errNd, 1e-6 * scale) << m.parameters[k].name;
     EXPECT_LE(errAd, 1e-10 * scale) << m.parameters[k].name;
+  }
+}
+
+// Rayleigh damping (damping: {alpha, beta}): at the rest state the assembled damping matrix
+// -dQ/dv of the whole shell (membranes, interior hinges, clamps) must be alpha M + beta K0 with
+// K0 = -dQ/dq there, so that each mode of the linearized plate gets the damping ratio
+// alpha / (2 omega) + beta omega / 2. Both membrane laws (their rest tangents are equal).
+TEST(ShellClamp, RayleighDampingAtRestIsAlphaMPlusBetaK) {
+  const double alpha = 3.0, beta = 1e-7;  // [1/s], [s]: beta K of alpha M's order in bending
+  for (const std::string law : {"saint_venant_kirchhoff", "neo_hookean"}) {
+    SCOPED_TRACE(law);
+    std::ostringstream text;
+    text.precision(17);
+    text << "dimension: 3\nelements:\n  - {name: plate, type: shell, mesh: square.geo, group: plate, size: 0.25"
+         << ", material: " << law << ", E: " << kE << ", nu: " << kNu << ", density: " << kRho << ", thickness: " << kT
+         << ", damping: {alpha: " << alpha << ", beta: " << beta << "}, clamp: [edges]}\n"
+         << "integrator: {type: trapezoidal, t_end: 0.01, dt: 0.001}\n";
+    const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+    const Model& m = *sc.model;
+    int clamps = 0, hinges = 0;
+    for (const auto& e : m.elements) {
+      clamps += e->kind() == "shell_clamp";
+      hinges += e->kind() == "shell_hinge";
+    }
+    EXPECT_GT(clamps, 0);
+    EXPECT_GT(hinges, 0);
+    Assembler as(m);
+    const VecX p = m.nominalParameters(), q = m.initialPositions(), v = VecX::Zero(m.n);
+    SparseAccumulator kacc, cacc;
+    kacc.begin(m.n, m.n);
+    as.addForceJacobian(kacc, q, v, p, 1.0, 0.0, 0, 0, 0);
+    cacc.begin(m.n, m.n);
+    as.addForceJacobian(cacc, q, v, p, 0.0, 1.0, 0, 0, 0);
+    const MatX K = MatX(kacc.finish()), C = MatX(cacc.finish()), M = MatX(as.mass(p));
+    // Separately on the transverse (z) coordinates, where at the flat rest state only the
+    // hinges and clamps act, and on the in-plane ones (membranes), so neither hides the other.
+    for (const int plane : {0, 1}) {
+      std::vector<int> idx;
+      for (int i = 0; i < m.n; ++i)
+        if ((m.coordinateLabel(i).rfind("z", 0) == 0) == (plane == 0)) idx.push_back(i);
+      const auto sub = [&](const MatX& A) {
+        MatX B(idx.size(), idx.size());
+        for (size_t a = 0; a < idx.size(); ++a)
+          for (size_t b = 0; b < idx.size(); ++b) B(a, b) = A(idx[a], idx[b]);
+        return B;
+      };
+      const MatX Cs = sub(C), Ks = sub(K), Ms = sub(M);
+      std::printf("%s, %s: |C - (alpha M + beta K)| / |C| = %.2e (|beta K| / |alpha M| = %.2f)\n", law.c_str(),
+                  plane == 0 ? "transverse" : "in-plane", (Cs - alpha * Ms - beta * Ks).norm() / Cs.norm(),
+                  (beta * Ks).norm() / (alpha * Ms).norm());
+      EXPECT_GT(Ks.norm(), 0.0);
+      EXPECT_LT((Cs - alpha * Ms - beta * Ks).norm(), 1e-12 * Cs.norm());
+    }
   }
 }
