@@ -2,6 +2,9 @@
 
 #include <filesystem>
 
+#include "elements/PlanarRigidBody.hpp"
+#include "pim/Rigidization.hpp"  // AttachedPointConstraint
+
 namespace flexsens {
 
 BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string& path, int elementDim, bool withOrder,
@@ -88,6 +91,64 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
         m.nodes[ids[i]].velocity = VecX::Zero(d);
       }
       if (isClamp) clamp->push_back({gl[k], key, g, nodes});
+    }
+  }
+  // --- attach: groups welded to a rigid body read before this element -----------------------
+  // Each node keeps its coordinates in the body's frame: r_i = r_A + sum_j c_j (r_Bj - r_A) for
+  // a rigid_body (basic points A, B, C, D), r_i = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A) for
+  // a planar_rigid_body (A, B): linear constraints (pim/Rigidization.hpp), as the bodies' own
+  // attached points.
+  if (el["attach"]) {
+    const YAML::Node al = el["attach"];
+    r.requireList(al, path + ".attach");
+    for (size_t k = 0; k < al.size(); ++k) {
+      const std::string key = at(path + ".attach", k);
+      r.allowKeys(al[k], key, {"group", "body"});
+      const std::string g = r.text(r.require(al[k], "group", key), key + ".group");
+      const std::string b = r.text(r.require(al[k], "body", key), key + ".body");
+      const std::vector<int> nodes = groupNodes(al[k]["group"], key + ".group", g);
+      std::vector<int> basic;
+      if (d == 3 && ctx.rigidBodies.count(b)) basic = ctx.rigidBodies.at(b).basic;
+      if (d == 2 && ctx.planarRigidBodies.count(b))
+        basic = {ctx.planarRigidBodies.at(b)[0], ctx.planarRigidBodies.at(b)[1]};
+      if (basic.empty()) {
+        std::string avail;
+        if (d == 3)
+          for (const auto& [bn, info] : ctx.rigidBodies) avail += (avail.empty() ? "" : ", ") + bn;
+        else
+          for (const auto& [bn, ab] : ctx.planarRigidBodies) avail += (avail.empty() ? "" : ", ") + bn;
+        r.fail(al[k]["body"], key + ".body", "no " + std::string(d == 3 ? "rigid_body" : "planar_rigid_body") + " '" + b +
+                                                 "' listed before this element; available: " +
+                                                 (avail.empty() ? "(none)" : avail));
+      }
+      MatX X0(d, basic.size());
+      for (size_t j = 0; j < basic.size(); ++j) X0.col(j) = m.nodes[basic[j]].position;
+      for (int i : nodes) {
+        const int id = ids[i];
+        if (std::find(basic.begin(), basic.end(), id) != basic.end()) continue;  // a basic point itself
+        if (m.nodes[id].ground)
+          r.fail(al[k]["group"], key + ".group", "node '" + m.nodes[id].name + "' of group '" + g +
+                                                     "' is fixed (ground or clamp) and cannot also be attached to '" + b +
+                                                     "'; attach the group or fix it, not both");
+        const VecX x = m.nodes[id].position;
+        std::vector<int> cn = basic;
+        cn.push_back(id);
+        const std::string cname = name + ".attach(" + m.nodes[id].name + ")";
+        if (d == 3) {
+          const Eigen::Matrix3d B = X0.rightCols(3).colwise() - X0.col(0);
+          const VecX c = B.inverse() * (x - X0.col(0));
+          m.constraints.push_back(std::make_unique<AttachedPointConstraint>(cname, cn, c, 3));
+          ctx.rigidBodies.at(b).members.insert(id);
+        } else {
+          const Eigen::Vector2d c = PlanarRigidBody::bodyCoordinates(X0.col(0), X0.col(1), x);
+          Eigen::Matrix2d R;
+          R << 0, -1, 1, 0;
+          MatX J(2, 6);
+          J << -(1 - c[0]) * Eigen::Matrix2d::Identity() + c[1] * R, -c[0] * Eigen::Matrix2d::Identity() - c[1] * R,
+              Eigen::Matrix2d::Identity();
+          m.constraints.push_back(std::make_unique<AttachedPointConstraint>(cname, cn, J));
+        }
+      }
     }
   }
   // --- initial velocity: v_i = velocity + omega x (x_i - center) ----------------------------

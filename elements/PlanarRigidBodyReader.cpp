@@ -25,6 +25,7 @@ void readPlanarRigidBody(SceneContext& ctx, const YAML::Node& el, const std::str
   auto body = std::make_unique<PlanarRigidBody>(name, ids[0], ids[1], xA, xB, com, mass, inertia);
   ctx.bindAll(name, body->properties());
   m.elements.push_back(std::move(body));
+  ctx.planarRigidBodies[name] = {ids[0], ids[1]};
   if (!(m.nodes[ids[0]].ground && m.nodes[ids[1]].ground))
     m.constraints.push_back(std::make_unique<DistanceConstraint>(name + ".AB", ids[0], ids[1], Quantity{ctx.distance(ids[0], ids[1]), -1}));
   // r_P - (1 - xi) r_A - xi r_B - eta R (r_B - r_A) = 0, R = [[0, -1], [1, 0]].

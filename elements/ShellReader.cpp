@@ -34,7 +34,7 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "material", "E", "nu", "density", "thickness",
-                        "rest_shape", "damping", "ground", "clamp", "velocity", "angular_velocity", "center"});
+                        "rest_shape", "damping", "ground", "attach", "clamp", "velocity", "angular_velocity", "center"});
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
   props->law.law = readMaterialLaw(r, el, path);

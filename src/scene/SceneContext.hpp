@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <map>
 #include <set>
 #include <string>
@@ -44,6 +45,7 @@ class SceneContext {
   std::map<std::string, Body> bodies;
   std::map<int, std::string> slopeOwner;  ///< node -> the ANCF chain that set its slope
   std::map<std::string, RigidBodyInfo> rigidBodies;
+  std::map<std::string, std::array<int, 2>> planarRigidBodies;  ///< name -> basic points A, B
   std::string geoFile;  ///< the scene's Gmsh geometry, if any
 
   // ---------------------------------------------------------------- names and nodes
