@@ -67,13 +67,9 @@ void ShellClampHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv)
   const double phi = ShellHinge::dihedralAngle(withGhost(s.x), &g, &H, "shell clamp " + name());
   const VecX& p = *s.p;
   const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  const double dev = ad::wrapAngle(phi - phi0_), beta = props_->beta.value(p);
-  const VecX g9 = g.head(9);  // the ghost is fixed: the x-blocks of the 4-node angle's derivatives
-  const MatX H9 = H.topLeftCorner(9, 9);
-  const VecX v = s.v.size() == s.x.size() ? s.v : VecX(VecX::Zero(9));
-  const double rate = g9.dot(v);
-  dQdq = -(D * w_) * (g9 * (g9 + beta * (H9 * v)).transpose() + (dev + beta * rate) * H9);  // [N/m]
-  dQdv = -(D * w_ * beta) * (g9 * g9.transpose());                                            // [N s/m]
+  // the ghost is fixed: the x-blocks of the 4-node angle's derivatives
+  shell::bendingJacobians(D * w_, props_->beta.value(p), ad::wrapAngle(phi - phi0_), g.head(9), H.topLeftCorner(9, 9),
+                          s.v, dQdq, dQdv);
 }
 
 bool ShellClampHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
@@ -86,10 +82,9 @@ bool ShellClampHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, 
   shell::bendingStiffnessDerivatives(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p), DE, DNu, DT);
   VecX g;
   const double dev = ad::wrapAngle(ShellHinge::dihedralAngle(withGhost(s.x), &g, nullptr, "shell clamp " + name()) - phi0_);
-  const VecX g9 = g.head(9);
-  const double rate = s.v.size() == s.x.size() ? g9.dot(s.v) : 0.0, beta = props_->beta.value(p);
   const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  dQ = -(((DE * dYoung + DNu * dNu + DT * dT) * (dev + beta * rate) + D * dBeta * rate) * w_) * g9;
+  dQ = shell::bendingParameterDerivative(D * w_, (DE * dYoung + DNu * dNu + DT * dT) * w_, props_->beta.value(p), dBeta,
+                                         dev, g.head(9), s.v);
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }

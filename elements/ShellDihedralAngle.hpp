@@ -48,4 +48,22 @@ inline std::string degenerateMessage(const std::string& who) {
   return who + ": a triangle of the hinge has zero area (or its edge zero length): the dihedral angle is undefined";
 }
 
+/// The bending law of a hinge or clamp on an angle with deviation dev from rest, gradient g and
+/// Hessian H (positions x): Q = -D w (dev + beta g.v) g, the Kelvin-Voigt moment included.
+/// Its analytic Jacobians: dQ/dq = -D w (g (g + beta H v)^T + (dev + beta g.v) H) [N/m],
+/// dQ/dv = -D w beta g g^T [N s/m]; v empty means zero velocities.
+inline void bendingJacobians(double Dw, double beta, double dev, const VecX& g, const MatX& H, const VecX& v,
+                             MatX& dQdq, MatX& dQdv) {
+  const VecX w = v.size() == g.size() ? v : VecX(VecX::Zero(g.size()));
+  dQdq = -Dw * (g * (g + beta * (H * w)).transpose() + (dev + beta * g.dot(w)) * H);
+  dQdv = -(Dw * beta) * (g * g.transpose());
+}
+
+/// dQ/dp of the same law, for d(D w)/dp = dDw and dbeta/dp = dBeta.
+inline VecX bendingParameterDerivative(double Dw, double dDw, double beta, double dBeta, double dev, const VecX& g,
+                                       const VecX& v) {
+  const double rate = v.size() == g.size() ? g.dot(v) : 0.0;
+  return -(dDw * (dev + beta * rate) + Dw * dBeta * rate) * g;
+}
+
 }  // namespace flexsens::shell

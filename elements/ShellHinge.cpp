@@ -119,12 +119,7 @@ void ShellHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) cons
   const double theta = dihedralAngle(s.x, &g, &H, "shell hinge " + name());
   const VecX& p = *s.p;
   const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  const double dev = ad::wrapAngle(theta - theta0_), beta = props_->beta.value(p);
-  const VecX v = s.v.size() == s.x.size() ? s.v : VecX(VecX::Zero(12));
-  const double rate = g.dot(v);
-  // Q = -D w s g, s = dev + beta g.v: dQ/dq = -D w (g (g + beta H v)^T + s H), dQ/dv = -D w beta g g^T
-  dQdq = -(D * w_) * (g * (g + beta * (H * v)).transpose() + (dev + beta * rate) * H);  // [N/m]
-  dQdv = -(D * w_ * beta) * (g * g.transpose());                                         // [N s/m]
+  shell::bendingJacobians(D * w_, props_->beta.value(p), ad::wrapAngle(theta - theta0_), g, H, s.v, dQdq, dQdv);
 }
 
 bool ShellHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
@@ -137,9 +132,9 @@ bool ShellHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX&
   shell::bendingStiffnessDerivatives(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p), DE, DNu, DT);
   VecX g;
   const double dev = ad::wrapAngle(dihedralAngle(s.x, &g, nullptr, "shell hinge " + name()) - theta0_);
-  const double rate = s.v.size() == s.x.size() ? g.dot(s.v) : 0.0, beta = props_->beta.value(p);
   const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  dQ = -(((DE * dYoung + DNu * dNu + DT * dT) * (dev + beta * rate) + D * dBeta * rate) * w_) * g;
+  dQ = shell::bendingParameterDerivative(D * w_, (DE * dYoung + DNu * dNu + DT * dT) * w_, props_->beta.value(p), dBeta,
+                                         dev, g, s.v);
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }
