@@ -71,7 +71,9 @@ PimReport pimCounts(const Assembler& as, const PimCase& c, const VecX& q, const 
 
 /// Solves eqs. (8) and (9) at the consistent nominal state s (positions, velocities) and
 /// returns the full initial state with sensitivities. Throws InputError for a wrong SDOF
-/// count or a body that is not undeformed, NumericalError for a singular or near-singular A.
+/// count or a body that is not undeformed, NumericalError for a singular or near-singular A or
+/// massless coordinates not in equilibrium at s (s.lambda must be the multipliers of s: the
+/// equilibrium's K holds H(lambda)).
 /// Dependent rigidization rows are left out of A (see selectRigidizationRows); afterwards
 /// q_p0 and q'_p0 must satisfy them too, or InputError (the rigidized bodies over-constrain
 /// the mechanism for that parameter).
