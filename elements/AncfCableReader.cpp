@@ -60,7 +60,7 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
   }
   auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
-  ctx.bodies[name] = {ids, nullptr, true};
+  ctx.bodies[name] = {ids, nullptr, true, sec->massless};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     const Node &a = m.nodes[ids[j]], &b = m.nodes[ids[j + 1]];
     VecX rest(4 * d);

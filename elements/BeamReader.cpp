@@ -104,7 +104,7 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
                        "segment lengths from the initial positions, zero rest curvature)");
   auto sec = readBeamSection(r, el, path);
   ctx.bindAll(name, sec->properties());
-  ctx.bodies[name] = {ids, nullptr};
+  ctx.bodies[name] = {ids, nullptr, false, sec->massless};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     const double L = ctx.distance(ids[j], ids[j + 1]);
     if (!(L > 0)) r.fail(el["nodes"][j + 1], at(path + ".nodes", j + 1), "coincides with the previous node: zero segment length");

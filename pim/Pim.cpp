@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/SparseAccumulator.hpp"
 #include "integrators/InitialState.hpp"
 
 namespace flexsens {
@@ -17,38 +18,118 @@ VecX pick(const VecX& v, const std::vector<int>& rows) {
   return r;
 }
 
-/// A = [Phi_q; Lambda_q (kept rows); z_q] and the labels of its rows.
+/// The massless coordinates' equilibrium in the PIM (Pim.hpp): coordinates mc, constraint
+/// rows cr touching them, N (a x e) an orthonormal basis of the null space of Phi_Cm = Phi_q(cr,
+/// mc), and, once load() ran, the rows N^T K(mc, :) / kappa of A, K = -Q_q + H(lambda).
+struct MasslessRows {
+  std::vector<int> mc, cr;
+  MatX Jq;  ///< Phi_q (m x n)
+  MatX N;
+  MatX K;   ///< rows mc of K (a x n)
+  MatX rows;
+  double kappa = 1.0;
+  int e() const { return static_cast<int>(N.cols()); }
+
+  MasslessRows(const Assembler& as, const VecX& q, const VecX& p) : mc(masslessCoordinates(as, p)) {
+    if (mc.empty()) return;
+    const int a = static_cast<int>(mc.size());
+    Jq = as.m() ? as.phiQDense(q, p) : MatX(0, as.n());
+    for (int r = 0; r < as.m(); ++r)
+      for (int i : mc)
+        if (Jq(r, i) != 0.0) {
+          cr.push_back(r);
+          break;
+        }
+    MatX Ct(a, cr.size());  // Phi_Cm^T
+    for (int i = 0; i < a; ++i)
+      for (size_t j = 0; j < cr.size(); ++j) Ct(i, j) = Jq(cr[j], mc[i]);
+    int rank = 0;
+    MatX Q = MatX::Identity(a, a);
+    if (Ct.cols()) {
+      Eigen::ColPivHouseholderQR<MatX> qr(Ct);
+      qr.setThreshold(1e-10);
+      rank = static_cast<int>(qr.rank());
+      Q = qr.householderQ() * MatX::Identity(a, a);
+    }
+    N = Q.rightCols(a - rank);
+  }
+  /// K(mc, :) at (q, lambda) (v enters Q only through damping, which massless rows may not carry).
+  void load(const Assembler& as, const VecX& q, const VecX& v, const VecX& lambda, const VecX& p) {
+    if (mc.empty()) return;
+    const int n = as.n();
+    SparseAccumulator acc;
+    acc.begin(n, n);
+    as.addForceJacobian(acc, q, v, p, 1.0, 0.0, 0, 0, 0);
+    if (as.m()) as.addHessian(acc, q, p, lambda, 1.0, 0, 0);
+    const MatX Kf = MatX(acc.finish());
+    K.resize(mc.size(), n);
+    for (size_t i = 0; i < mc.size(); ++i) K.row(i) = Kf.row(mc[i]);
+    double kMax = 0.0;
+    for (size_t i = 0; i < mc.size(); ++i)
+      for (int j : mc) kMax = std::max(kMax, std::abs(K(i, j)));
+    kappa = kMax > 0.0 ? kMax : 1.0;
+    rows = N.transpose() * K / kappa;
+  }
+  /// Rows mc of x.
+  VecX pick(const VecX& x) const {
+    VecX r(mc.size());
+    for (size_t i = 0; i < mc.size(); ++i) r[i] = x[mc[i]];
+    return r;
+  }
+  /// The equilibrium residual F_m = (Phi_q^T lambda - Q)_m at v = v.
+  VecX residual(const Assembler& as, const VecX& q, const VecX& v, const VecX& lambda, const VecX& p) const {
+    VecX F = -as.force(q, v, p);
+    if (as.m()) F += as.phiQTransposeTimes(q, p, lambda);
+    return pick(F);
+  }
+  /// A label for equilibrium row i: the massless coordinate with the largest entry of N's column.
+  std::string label(const Model& m, int i) const {
+    int j;
+    N.col(i).cwiseAbs().maxCoeff(&j);
+    return "massless equilibrium along " + m.coordinateLabel(mc[j]);
+  }
+};
+
+/// A = [Phi_q; Lambda_q (kept rows); massless equilibrium rows; z_q] and the labels of its rows.
 MatX pimMatrix(const Assembler& as, const Assembler& lam, const std::vector<int>& kept, const PimCase& c,
-               const VecX& q, const VecX& p, std::vector<std::string>* labels) {
+               const MasslessRows& ml, const VecX& q, const VecX& p, std::vector<std::string>* labels) {
   const Model& m = as.model();
-  const int mr = static_cast<int>(kept.size());
-  MatX A(as.m() + mr + c.sdofs.size(), m.n);
+  const int mr = static_cast<int>(kept.size()), e = ml.e();
+  MatX A(as.m() + mr + e + c.sdofs.size(), m.n);
   A.topRows(as.m()) = as.phiQDense(q, p);
   if (mr) {
     const MatX L = lam.phiQDense(q, p);
     for (int i = 0; i < mr; ++i) A.row(as.m() + i) = L.row(kept[i]);
   }
+  if (e) A.middleRows(as.m() + mr, e) = ml.rows;
   for (size_t i = 0; i < c.sdofs.size(); ++i)
-    A.row(as.m() + mr + i) = c.sdofs[i]->gradient(m, q).transpose();
+    A.row(as.m() + mr + e + i) = c.sdofs[i]->gradient(m, q).transpose();
   if (labels) {
     for (int r = 0; r < as.m(); ++r) labels->push_back("Phi: " + as.rowLabel(r));
     for (int r : kept) labels->push_back("Lambda: " + lam.rowLabel(r));
+    for (int i = 0; i < e; ++i) labels->push_back(ml.label(m, i));
     for (const auto& z : c.sdofs) labels->push_back("SDOF: " + z->name);
   }
   return A;
 }
 
-void checkCount(const Assembler& as, const Assembler& lam, const LambdaSelection& sel, const PimCase& c) {
-  const int d = as.n() - as.m(), mr = static_cast<int>(sel.kept.size());
-  const int ds = d - mr;
+void checkCount(const Assembler& as, const Assembler& lam, const LambdaSelection& sel, const MasslessRows& ml,
+                const PimCase& c) {
+  const int d = as.n() - as.m(), mr = static_cast<int>(sel.kept.size()), e = ml.e();
+  const int ds = d - mr - e;
   if (static_cast<int>(c.sdofs.size()) != ds) {
     std::ostringstream os;
-    os << c.file << ": case '" << c.name << "': " << c.sdofs.size() << " SDOF(s) given, but d - m_r = "
-       << d << " - " << mr << " = " << ds << " are required (n = " << as.n() << ", m = " << as.m()
+    os << c.file << ": case '" << c.name << "': " << c.sdofs.size() << " SDOF(s) given, but d - m_r"
+       << (e ? " - e = " : " = ") << d << " - " << mr;
+    if (e) os << " - " << e;
+    os << " = " << ds << " are required (n = " << as.n() << ", m = " << as.m()
        << ", m_r = " << mr << " independent rigidization equations";
     if (!sel.dropped.empty())
       os << " of " << lam.m() << " generated; " << sel.dropped.size()
          << " are implied by the constraints and left out";
+    if (e)
+      os << ", e = " << e << " equilibrium equations of the " << ml.mc.size()
+         << " massless coordinates (inertia: none), which fix them instead of SDOFs";
     os << ")";
     if (ds < 0) os << "; the rigidized bodies over-constrain the mechanism: rigidize fewer bodies";
     throw InputError(os.str());
@@ -126,7 +207,10 @@ PimReport pimCounts(const Assembler& as, const PimCase& c, const VecX& q, const 
   r.m = as.m();
   r.d = r.n - r.m;
   r.mr = static_cast<int>(sel.kept.size());
-  r.ds = r.d - r.mr;
+  const MasslessRows ml(as, q, p);
+  r.massless = static_cast<int>(ml.mc.size());
+  r.me = ml.e();
+  r.ds = r.d - r.mr - r.me;
   r.lambdaGenerated = lam.m();
   r.lambdaDropped = static_cast<int>(sel.dropped.size());
   return r;
@@ -156,9 +240,25 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
   const LambdaSelection sel = selectRigidizationRows(as, lam, s.q, p);
   rep.mr = static_cast<int>(sel.kept.size());
   rep.lambdaDropped = static_cast<int>(sel.dropped.size());
-  checkCount(as, lam, sel, c);
+  MasslessRows ml(as, s.q, p);
+  rep.massless = static_cast<int>(ml.mc.size());
+  rep.me = ml.e();
+  checkCount(as, lam, sel, ml, c);
+  if (!ml.mc.empty()) {
+    // The PIM linearizes the equilibrium of the massless coordinates at the start: it must hold
+    // there (consistentState calls equilibrateMassless), in the directions N at least.
+    const VecX lambda = s.lambda.size() == as.m() ? s.lambda : VecX::Zero(as.m());
+    ml.load(as, s.q, s.v, lambda, p);
+    const double err = (ml.N.transpose() * ml.residual(as, s.q, s.v, lambda, p)).lpNorm<Eigen::Infinity>() / ml.kappa;
+    if (!(err <= 1e-8 * (1.0 + s.q.lpNorm<Eigen::Infinity>()))) {
+      std::ostringstream os;
+      os << "case '" << c.name << "': the massless coordinates are not in equilibrium at the start (|N^T F_m| / k = "
+         << err << " m); the PIM linearizes their equilibrium there (equilibrateMassless first)";
+      throw NumericalError(os.str());
+    }
+  }
   std::vector<std::string> labels;
-  const MatX A = pimMatrix(as, lam, sel.kept, c, s.q, p, &labels);
+  const MatX A = pimMatrix(as, lam, sel.kept, c, ml, s.q, p, &labels);
   const Eigen::BDCSVD<MatX> svd(A, Eigen::ComputeFullU);
   const VecX sv = svd.singularValues();
   rep.condition = sv[0] / sv[sv.size() - 1];
@@ -166,7 +266,8 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
     // Rows taking part in the dependency: large entries of the left null vector.
     const VecX u = svd.matrixU().col(sv.size() - 1);
     std::ostringstream os;
-    os << "case '" << c.name << "': the PIM matrix A = [Phi_q; Lambda_q; z_q] is rank-deficient "
+    os << "case '" << c.name << "': the PIM matrix A = [Phi_q; Lambda_q; " << (ml.e() ? "N^T K_m / k; " : "")
+       << "z_q] is rank-deficient "
        << "(smallest singular value " << sv[sv.size() - 1] << ", largest " << sv[0]
        << "); dependent rows:";
     for (int r = 0; r < u.size(); ++r)
@@ -182,7 +283,7 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
   }
   const Eigen::PartialPivLU<MatX> lu(A);
   const int np = static_cast<int>(p.size());
-  const int mr = rep.mr;
+  const int mr = rep.mr, e = rep.me;
   MatX Ld(sel.dropped.size(), m.n);  // dropped rows of Lambda_q, for the check below
   if (!sel.dropped.empty()) {
     const MatX L = lam.phiQDense(s.q, p);
@@ -197,7 +298,12 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
     b.head(as.m()) = -as.phiParamDerivative(s.q, p, k);
     const VecX lamP = lam.m() ? lam.phiParamDerivative(s.q, p, k) : VecX();
     b.segment(as.m(), mr) = -pick(lamP, sel.kept);
-    for (size_t i = 0; i < c.sdofs.size(); ++i) b[as.m() + mr + i] = c.sdofs[i]->dp;
+    if (e) {  // N^T K_m. q_p = N^T (Q_p - Phi_qp^T lambda)_m, scaled by 1/kappa
+      VecX g = as.forceParamDerivative(s.q, s.v, p, k);
+      if (as.m()) g -= as.phiQParamDerivativeTransposeTimes(s.q, p, k, s.lambda);
+      b.segment(as.m() + mr, e) = ml.N.transpose() * ml.pick(g) / ml.kappa;
+    }
+    for (size_t i = 0; i < c.sdofs.size(); ++i) b[as.m() + mr + e + i] = c.sdofs[i]->dp;
     State d;
     d.q = lu.solve(b);
     if (!sel.dropped.empty()) {
@@ -212,8 +318,9 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
       lamV = lam.hessianRowsTimes(s.q, p, s.v, d.q) + lam.phiQParamDerivativeTimes(s.q, p, k, s.v);
       b.segment(as.m(), mr) = -pick(lamV, sel.kept);
     }
+    if (e) b.segment(as.m() + mr, e).setZero();  // quasi-static rate at fixed K (Pim.hpp)
     for (size_t i = 0; i < c.sdofs.size(); ++i)
-      b[as.m() + mr + i] = c.sdofs[i]->dv - d.q.dot(c.sdofs[i]->hessian(m, s.q) * s.v);
+      b[as.m() + mr + e + i] = c.sdofs[i]->dv - d.q.dot(c.sdofs[i]->hessian(m, s.q) * s.v);
     d.v = lu.solve(b);
     if (!sel.dropped.empty()) {
       const VecX lv = pick(lamV, sel.dropped);
@@ -236,25 +343,73 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
   const LambdaSelection sel = selectRigidizationRows(as, lam, q0, p0);
-  checkCount(as, lam, sel, c);
-  const int mr = static_cast<int>(sel.kept.size());
-  VecX target(c.sdofs.size());
-  for (size_t i = 0; i < c.sdofs.size(); ++i)
-    target[i] = c.sdofs[i]->value(m, q0) + c.sdofs[i]->dp * (p[k] - p0[k]);
+  MasslessRows ml(as, q0, p0);
+  checkCount(as, lam, sel, ml, c);
+  const int mr = static_cast<int>(sel.kept.size()), ns = static_cast<int>(c.sdofs.size());
+  VecX target(ns);
+  for (int i = 0; i < ns; ++i) target[i] = c.sdofs[i]->value(m, q0) + c.sdofs[i]->dp * (p[k] - p0[k]);
   VecX q = q0;
   double previous = std::numeric_limits<double>::infinity();
-  for (int it = 0; it < 50; ++it) {
-    VecX F(m.n);
-    F.head(as.m()) = as.phi(q, p);
-    if (mr) F.segment(as.m(), mr) = pick(lam.phi(q, p), sel.kept);
-    for (size_t i = 0; i < c.sdofs.size(); ++i) F[as.m() + mr + i] = c.sdofs[i]->value(m, q) - target[i];
-    const double r = F.lpNorm<Eigen::Infinity>();
-    if (r < 1e-14) return q;
-    // Quadratic constraints on large coordinates (|r|^2 ~ 100 m^2) carry round-off above
-    // 1e-14: stop once Newton stagnates there (the residual no longer decreases).
-    if (r < 1e-11 && r >= previous) return q;
-    previous = r;
-    q -= pimMatrix(as, lam, sel.kept, c, q, p, nullptr).partialPivLu().solve(F);
+  if (ml.mc.empty()) {
+    for (int it = 0; it < 50; ++it) {
+      VecX F(m.n);
+      F.head(as.m()) = as.phi(q, p);
+      if (mr) F.segment(as.m(), mr) = pick(lam.phi(q, p), sel.kept);
+      for (int i = 0; i < ns; ++i) F[as.m() + mr + i] = c.sdofs[i]->value(m, q) - target[i];
+      const double r = F.lpNorm<Eigen::Infinity>();
+      if (r < 1e-14) return q;
+      // Quadratic constraints on large coordinates (|r|^2 ~ 100 m^2) carry round-off above
+      // 1e-14: stop once Newton stagnates there (the residual no longer decreases).
+      if (r < 1e-11 && r >= previous) return q;
+      previous = r;
+      q -= pimMatrix(as, lam, sel.kept, c, ml, q, p, nullptr).partialPivLu().solve(F);
+    }
+  } else {
+    // Unknowns q and the multipliers l of the rows cr; equations Phi, Lambda (kept), the full
+    // equilibrium F_m / kappa0 (a rows, not projected: independent of the linear PIM's form) and
+    // the SDOFs. With dependent rows in Phi_Cm the multipliers are not unique: least-norm
+    // Gauss-Newton steps (complete orthogonal decomposition).
+    const int n = m.n, a = static_cast<int>(ml.mc.size()), nc = static_cast<int>(ml.cr.size());
+    const VecX v0 = VecX::Zero(n);
+    VecX lambda = VecX::Zero(as.m());
+    {  // nominal multipliers of the rows cr: least squares of Phi_Cm^T l = Q_m at q0
+      MatX Ct(a, nc);
+      for (int i = 0; i < a; ++i)
+        for (int j = 0; j < nc; ++j) Ct(i, j) = ml.Jq(ml.cr[j], ml.mc[i]);
+      const VecX l = Ct.completeOrthogonalDecomposition().solve(VecX(-ml.residual(as, q0, v0, lambda, p0)));
+      for (int j = 0; j < nc; ++j) lambda[ml.cr[j]] = l[j];
+    }
+    ml.load(as, q0, v0, lambda, p0);
+    const double kappa = ml.kappa;
+    for (int it = 0; it < 50; ++it) {
+      MasslessRows cur(as, q, p);
+      cur.load(as, q, v0, lambda, p);
+      const int rows = as.m() + mr + a + ns;
+      VecX F(rows);
+      MatX J = MatX::Zero(rows, n + nc);
+      F.head(as.m()) = as.phi(q, p);
+      J.topLeftCorner(as.m(), n) = cur.Jq;
+      if (mr) {
+        F.segment(as.m(), mr) = pick(lam.phi(q, p), sel.kept);
+        const MatX L = lam.phiQDense(q, p);
+        for (int i = 0; i < mr; ++i) J.block(as.m() + i, 0, 1, n) = L.row(sel.kept[i]);
+      }
+      F.segment(as.m() + mr, a) = cur.residual(as, q, v0, lambda, p) / kappa;
+      J.block(as.m() + mr, 0, a, n) = cur.K / kappa;
+      for (int i = 0; i < a; ++i)
+        for (int j = 0; j < nc; ++j) J(as.m() + mr + i, n + j) = cur.Jq(ml.cr[j], ml.mc[i]) / kappa;
+      for (int i = 0; i < ns; ++i) {
+        F[as.m() + mr + a + i] = c.sdofs[i]->value(m, q) - target[i];
+        J.block(as.m() + mr + a + i, 0, 1, n) = c.sdofs[i]->gradient(m, q).transpose();
+      }
+      const double r = F.lpNorm<Eigen::Infinity>();
+      if (r < 1e-14) return q;
+      if (r < 1e-11 && r >= previous) return q;
+      previous = r;
+      const VecX dz = J.completeOrthogonalDecomposition().solve(F);
+      q -= dz.head(n);
+      for (int j = 0; j < nc; ++j) lambda[ml.cr[j]] -= dz[n + j];
+    }
   }
   throw NumericalError("case '" + c.name + "': the perturbed initial configuration did not converge");
 }

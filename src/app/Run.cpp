@@ -94,13 +94,8 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
   const Model& m = as.model();
   if (pim) {
     PimReport local;
-    StateWithSens s = pimInitialState(as, *pim, consistentState(as, p), p, rep ? *rep : local);
-    if (!masslessCoordinates(as, p).empty())  // massless coordinates follow equilibrium, not the case
-      for (size_t k = 0; k < s.dp.size(); ++k) {
-        masslessSensitivity(as, s.x, p, static_cast<int>(k), s.dp[k]);
-        solveAccelerationSensitivity(as, s.x, p, static_cast<int>(k), s.dp[k]);
-      }
-    return s;
+    // Massless coordinates: the PIM's rows of their equilibrium fix them (pim/Pim.hpp).
+    return pimInitialState(as, *pim, consistentState(as, p), p, rep ? *rep : local);
   }
   StateWithSens s;
   s.x = consistentState(as, p);
@@ -165,6 +160,7 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
     js << "  \"case\": {\"name\": " << jsonString(c.name) << ", \"n\": " << pim->n << ", \"m\": " << pim->m
        << ", \"d\": " << pim->d << ", \"m_r\": " << pim->mr << ", \"d_s\": " << pim->ds
        << ", \"lambda_generated\": " << pim->lambdaGenerated << ", \"lambda_dropped\": " << pim->lambdaDropped
+       << ", \"massless\": " << pim->massless << ", \"massless_equilibrium_rows\": " << pim->me
        << ", \"rigidized\": " << list(c.rigidized) << ", \"rigid_model\": " << list(c.rigidModel)
        << ", \"sdofs\": " << list(sdofs) << ", \"condition_A\": " << jsonNumber(pim->condition) << ",\n"
        << "           \"q_p0\": {";

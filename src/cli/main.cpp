@@ -168,7 +168,10 @@ int main(int argc, char** argv) {
         initialState(as, p, cs.pimCase.get(), &rep);
         std::cout << "  case " << name << ": n = " << cm.n << ", m = " << cm.m << ", d = " << cm.n - cm.m
                   << ", m_r = " << rep.mr << " (" << rep.lambdaGenerated << " generated, " << rep.lambdaDropped
-                  << " implied by the constraints), d_s = " << rep.ds << " SDOFs, cond(A) = " << rep.condition << "\n";
+                  << " implied by the constraints), ";
+        if (rep.massless)
+          std::cout << "e = " << rep.me << " equilibrium rows of " << rep.massless << " massless coordinates, ";
+        std::cout << "d_s = " << rep.ds << " SDOFs, cond(A) = " << rep.condition << "\n";
       }
       return 0;
     }

@@ -228,6 +228,10 @@ std::unique_ptr<PimCase> readPimCase(SceneContext& ctx, const YAML::Node& c, con
     const std::string& b = pc->rigidized[i];
     if (std::count(pc->rigidModel.begin(), pc->rigidModel.end(), b))
       r.fail(c["rigidize"][i], at(sel.path + ".rigidize", i), "'" + b + "' is already rigid in this case (rigid_model)");
+    if (ctx.bodies[b].massless)  // its nodes move to equilibrium at t = 0; the PIM's equilibrium rows fix them
+      r.fail(c["rigidize"][i], at(sel.path + ".rigidize", i),
+             "'" + b + "' is massless (inertia: none): the PIM determines its coordinates by their equilibrium, "
+             "it cannot be rigidized; remove it from rigidize (the SDOF count drops by its equilibrium equations)");
     RigidizeOptions opt;
     opt.slopes = ctx.bodies[b].slopes;
     Rigidization R = rigidize(b, ctx.bodies[b].nodes, m, ctx.positions(), pc->file + ": case '" + sel.name + "'",

@@ -34,6 +34,7 @@ class SceneContext {
     std::vector<int> nodes;
     const Quantity* pairLength;  ///< a spring's natural length (rigidized pairs keep it), else null
     bool slopes = false;         ///< an ANCF body: rigidizing it fixes its nodes' slopes too
+    bool massless = false;       ///< inertia: none (its nodes follow equilibrium; no rigidizing)
   };
   /// A 3D rigid body by name, for joints fixed to it and for SDOFs.
   struct RigidBodyInfo {
