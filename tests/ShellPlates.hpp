@@ -12,7 +12,12 @@
 #include <memory>
 #include <vector>
 
+#include <sstream>
+#include <string>
+
+#include "TestModels.hpp"
 #include "core/Element.hpp"
+#include "scene/Scene.hpp"
 
 namespace flexsens::test {
 
@@ -115,6 +120,28 @@ inline std::vector<double> transverseFrequencies(const std::vector<std::unique_p
   std::vector<double> w;
   for (int k = 0; k < count; ++k) w.push_back(std::sqrt(es.eigenvalues()[k]));
   return w;
+}
+
+/// The unit square plate of tests/scenes/shell/square.geo as a scene (type: shell) at Gmsh
+/// element size `size`, supported on its edges by `support` ("ground": simply supported, or
+/// "clamp"), with its nodes' rest positions X and which are fixed.
+struct ScenePlate {
+  Scene sc;
+  std::vector<Eigen::Vector3d> X;
+  std::vector<bool> fixed;
+};
+inline ScenePlate squarePlateScene(double size, const std::string& support, double E, double nu, double rho, double t) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "dimension: 3\nelements:\n  - {name: plate, type: shell, mesh: square.geo, group: plate, size: " << size
+       << ", E: " << E << ", nu: " << nu << ", density: " << rho << ", thickness: " << t << ", " << support
+       << ": [edges]}\nintegrator: {type: trapezoidal, t_end: 0.01, dt: 0.001}\n";
+  ScenePlate r{readSceneText(text.str(), sourceDir() + "/tests/scenes/shell/scene.yaml"), {}, {}};
+  for (const Node& nd : r.sc.model->nodes) {
+    r.X.push_back(nd.position);
+    r.fixed.push_back(nd.ground);
+  }
+  return r;
 }
 
 }  // namespace flexsens::test

@@ -99,6 +99,38 @@ inline PlusMinusRuns runsAtPlusMinus(const Assembler& as, const VecX& p, size_t 
   return r;
 }
 
+/// The direct (dd) and AD sensitivities of coordinate z over a run of m with `set`, against
+/// central differences of whole runs at p +- 1e-5 |p_k| for each parameter: |dd - nd| <= 1e-6
+/// and |dd - ad| <= 1e-10 of the largest |dz/dp_k| over the frames (printed). Returns the dd run.
+inline Recorder expectCoordinateSensitivities(const Model& m, const IntegratorSettings& set, int z) {
+  Assembler as(m);
+  Assembler adAs(m, Derivatives::AutomaticDifferentiation);
+  const VecX p = m.nominalParameters();
+  Recorder dd, ad;
+  integrate(as, p, initialState(as, p), set, dd);
+  integrate(adAs, p, initialState(adAs, p), set, ad);
+  for (size_t k = 0; k < m.parameters.size(); ++k) {
+    const double h = 1e-5 * std::abs(p[k]);
+    const auto [plus, minus] = runsAtPlusMinus(as, p, k, h, set);
+    EXPECT_EQ(plus.frames.size(), dd.frames.size());
+    if (plus.frames.size() != dd.frames.size() || minus.frames.size() != dd.frames.size()) continue;
+    double scale = 0.0, errNd = 0.0, errAd = 0.0;
+    for (size_t f = 1; f < dd.frames.size(); ++f) scale = std::max(scale, std::abs(dd.frames[f].dp[k].q[z]));
+    for (size_t f = 1; f < dd.frames.size(); ++f) {
+      const double nd = (plus.frames[f].x.q[z] - minus.frames[f].x.q[z]) / (2 * h);
+      errNd = std::max(errNd, std::abs(dd.frames[f].dp[k].q[z] - nd));
+      errAd = std::max(errAd, std::abs(dd.frames[f].dp[k].q[z] - ad.frames[f].dp[k].q[z]));
+    }
+    std::printf("  d(%s)/d%-4s at %.3g s %+.6e; max |dd - nd| / max|dd| %.2e, |dd - ad| %.2e\n",
+                m.coordinateLabel(z).c_str(), m.parameters[k].name.c_str(), dd.frames.back().x.t,
+                dd.frames.back().dp[k].q[z], errNd / scale, errAd / scale);
+    EXPECT_GT(scale, 0.0) << m.parameters[k].name;
+    EXPECT_LE(errNd, 1e-6 * scale) << m.parameters[k].name;
+    EXPECT_LE(errAd, 1e-10 * scale) << m.parameters[k].name;
+  }
+  return dd;
+}
+
 /// Settings for tests: IDAS at rtol = atol = dtOrTol, or a fixed-step scheme at dt = dtOrTol;
 /// frames every 0.5 s, Newton to 1e-14.
 inline IntegratorSettings integratorSettings(const std::string& type, double dtOrTol, double tEnd) {

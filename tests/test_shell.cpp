@@ -553,19 +553,10 @@ TEST(Shell, RightTriangleMeshesConvergeToAStifferPlate) {
 TEST(Shell, UnstructuredGmshPlateFrequencies) {
   const double ref[3] = {kirchhoff(1, 1), kirchhoff(1, 2), kirchhoff(2, 1)};
   for (const double size : {0.2, 0.1, 0.05, 0.025}) {
-    std::ostringstream text;
-    text.precision(17);
-    text << "dimension: 3\nelements:\n  - {name: plate, type: shell, mesh: square.geo, group: plate, size: " << size
-         << ", E: " << kE << ", nu: " << kNu << ", density: " << kRho << ", thickness: " << kT
-         << ", ground: [edges]}\nintegrator: {type: trapezoidal, t_end: 0.01, dt: 0.001}\n";
-    const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
-    const Model& m = *sc.model;
-    std::vector<Eigen::Vector3d> X;
-    std::vector<bool> fixed;
-    for (const Node& nd : m.nodes) {
-      X.push_back(nd.position);
-      fixed.push_back(nd.ground);
-    }
+    const auto plate = test::squarePlateScene(size, "ground", kE, kNu, kRho, kT);
+    const Model& m = *plate.sc.model;
+    const auto& X = plate.X;
+    const auto& fixed = plate.fixed;
     const auto w = transverseFrequencies(m.elements, X, fixed, 3);
     double h = 0.0;
     int tris = 0;

@@ -33,32 +33,9 @@ TEST(ShellSensitivity, PanelDirectDifferentiationMatchesCentralDifferencesAndAD)
   const Scene sc = readSceneText(text, file);
   const Model& m = *sc.model;
   ASSERT_EQ(m.parameters.size(), 3u);
-  Assembler as(m);
-  Assembler adAs(m, Derivatives::AutomaticDifferentiation);
-  const VecX p = m.nominalParameters();
   auto set = integratorSettings("trapezoidal", 0.002, 0.06);
   set.frameInterval = 0.01;
-  Recorder dd, ad;
-  integrate(as, p, initialState(as, p), set, dd);
-  integrate(adAs, p, initialState(adAs, p), set, ad);
-  const int z = m.dof(m.nodeIndex("tip"), 2);
-  for (size_t k = 0; k < m.parameters.size(); ++k) {
-    const double h = 1e-5 * std::abs(p[k]);
-    const auto [plus, minus] = runsAtPlusMinus(as, p, k, h, set);
-    ASSERT_EQ(plus.frames.size(), dd.frames.size());
-    double scale = 0.0, errNd = 0.0, errAd = 0.0;
-    for (size_t f = 1; f < dd.frames.size(); ++f) scale = std::max(scale, std::abs(dd.frames[f].dp[k].q[z]));
-    for (size_t f = 1; f < dd.frames.size(); ++f) {
-      const double nd = (plus.frames[f].x.q[z] - minus.frames[f].x.q[z]) / (2 * h);
-      errNd = std::max(errNd, std::abs(dd.frames[f].dp[k].q[z] - nd));
-      errAd = std::max(errAd, std::abs(dd.frames[f].dp[k].q[z] - ad.frames[f].dp[k].q[z]));
-    }
-    std::printf("  d(tip z)/d%-4s at 0.06 s %+.6e; max |dd - nd| / max|dd| %.2e, |dd - ad| %.2e\n",
-                m.parameters[k].name.c_str(), dd.frames.back().dp[k].q[z], errNd / scale, errAd / scale);
-    EXPECT_GT(scale, 0.0) << m.parameters[k].name;
-    EXPECT_LE(errNd, 1e-6 * scale) << m.parameters[k].name;
-    EXPECT_LE(errAd, 1e-10 * scale) << m.parameters[k].name;
-  }
+  expectCoordinateSensitivities(m, set, m.dof(m.nodeIndex("tip"), 2));
 }
 
 // Membrane stress sensitivities written to the .vtu cells (dstress_cauchy/dp, dvon_mises/dp:
