@@ -123,18 +123,12 @@ void ShellHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) cons
 }
 
 bool ShellHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dT = props_->thickness.boundTo(k),
-               dBeta = props_->beta.boundTo(k);
-  if (!(dYoung || dNu || dT || dBeta)) return false;
+  double D, dD, beta, dBeta;
+  if (!props_->bendingDerivative(*s.p, k, D, dD, beta, dBeta)) return false;
   checkDim(s);
-  const VecX& p = *s.p;
-  double DE, DNu, DT;
-  shell::bendingStiffnessDerivatives(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p), DE, DNu, DT);
   VecX g;
   const double dev = ad::wrapAngle(dihedralAngle(s.x, &g, nullptr, "shell hinge " + name()) - theta0_);
-  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  dQ = shell::bendingParameterDerivative(D * w_, (DE * dYoung + DNu * dNu + DT * dT) * w_, props_->beta.value(p), dBeta,
-                                         dev, g, s.v);
+  dQ = shell::bendingParameterDerivative(D * w_, dD * w_, beta, dBeta, dev, g, s.v);
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }

@@ -24,6 +24,9 @@ struct ShellProperties {
   /// The membrane's law, always in plane stress (S33 = 0); the hinges' bending stays linear in
   /// the dihedral angle with D from E, nu, thickness (small bending strains of a thin shell).
   MaterialLaw law{Law::SaintVenantKirchhoff, PlanarState::PlaneStress};
+  /// The bending stiffness D [N m] and beta [s] at p and their derivatives along parameter k
+  /// (the chain rule over E, nu, thickness); false when neither depends on p_k.
+  bool bendingDerivative(const VecX& p, int k, double& D, double& dD, double& b, double& dB) const;
   std::vector<std::pair<std::string, Quantity*>> properties() {
     return {{"E", &E}, {"nu", &nu}, {"density", &density}, {"thickness", &thickness}, {"alpha", &alpha}, {"beta", &beta}};
   }
@@ -42,5 +45,18 @@ inline void bendingStiffnessDerivatives(double E, double nu, double t, double& d
   dT = 3.0 * D / t;
 }
 }  // namespace shell
+
+inline bool ShellProperties::bendingDerivative(const VecX& p, int k, double& D, double& dD, double& b,
+                                               double& dB) const {
+  const double dYoung = E.boundTo(k), dNu = nu.boundTo(k), dT = thickness.boundTo(k);
+  dB = beta.boundTo(k);
+  if (!(dYoung || dNu || dT || dB)) return false;
+  double DE, DNu, DT;
+  shell::bendingStiffnessDerivatives(E.value(p), nu.value(p), thickness.value(p), DE, DNu, DT);
+  D = shell::bendingStiffness(E.value(p), nu.value(p), thickness.value(p));
+  dD = DE * dYoung + DNu * dNu + DT * dT;
+  b = beta.value(p);
+  return true;
+}
 
 }  // namespace flexsens
