@@ -289,18 +289,14 @@ void Solid::centroidStress(const LocalState& s, MatX& E, MatX& S, MatX& sigma, d
 
 void Solid::centroidStressDerivative(const LocalState& s, const VecX& dx, int k, MatX& dE, MatX& dS, MatX& dsigma,
                                      double& dVonMises) const {
-  using stressad::AD1, stressad::seeded, stressad::derivativeOf;
   const VecX& p = *s.p;
-  VecT<AD1> x(dim_ * n_);
-  for (int i = 0; i < dim_ * n_; ++i) x[i] = seeded(s.x[i], dx[i]);
-  const AD1 E0 = seeded(props_->E.value(p), props_->E.boundTo(k) ? 1.0 : 0.0);
-  const AD1 nu = seeded(props_->nu.value(p), props_->nu.boundTo(k) ? 1.0 : 0.0);
-  MatT<AD1> E, S, sigma, dev;
-  centroidStressT<AD1>(x, E0, nu, E, S, sigma, dev);
-  dE = derivativeOf(E);
-  dS = derivativeOf(S);
-  dsigma = derivativeOf(sigma);
-  dVonMises = stressad::vonMisesDerivative(dev);
+  stressad::directionalDerivative(
+      s.x.head(dim_ * n_), dx, props_->E.value(p), props_->E.boundTo(k) ? 1.0 : 0.0, props_->nu.value(p),
+      props_->nu.boundTo(k) ? 1.0 : 0.0,
+      [this](const auto& x, const auto& E0, const auto& nu, auto& E, auto& S, auto& sigma, auto& dev) {
+        centroidStressT<stressad::AD1>(x, E0, nu, E, S, sigma, dev);
+      },
+      dE, dS, dsigma, dVonMises);
 }
 
 template class KernelElement<Solid>;

@@ -36,4 +36,20 @@ inline double vonMisesDerivative(const MatT<AD1>& dev) {
   return vm > 0.0 ? 1.5 * (value.array() * d.array()).sum() / vm : std::sqrt(1.5 * (d.array() * d.array()).sum());
 }
 
+/// The directional derivative of an element's stress output along positions dx and (E, nu)
+/// seeds dYoung, dNu: stressT(x, E, nu, E_out, S, sigma, dev) (MatT<AD1> outputs, dev the
+/// deviatoric Cauchy stress) evaluated once in AD1.
+template <class StressT>
+void directionalDerivative(const VecX& x, const VecX& dx, double young, double dYoung, double nu, double dNu,
+                           const StressT& stressT, MatX& dE, MatX& dS, MatX& dsigma, double& dVonMises) {
+  VecT<AD1> xs(x.size());
+  for (int i = 0; i < x.size(); ++i) xs[i] = seeded(x[i], dx[i]);
+  MatT<AD1> E, S, sigma, dev;
+  stressT(xs, seeded(young, dYoung), seeded(nu, dNu), E, S, sigma, dev);
+  dE = derivativeOf(E);
+  dS = derivativeOf(S);
+  dsigma = derivativeOf(sigma);
+  dVonMises = vonMisesDerivative(dev);
+}
+
 }  // namespace flexsens::stressad
