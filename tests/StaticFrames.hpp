@@ -15,6 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "core/Assembler.hpp"
+#include "integrators/Static.hpp"
+
 namespace flexsens::test {
 
 /// Runs `flexsens static yaml --out out`; null when it fails or writes no frame.
@@ -31,6 +34,17 @@ inline vtkSmartPointer<vtkUnstructuredGrid> staticLastFrame(const std::filesyste
   reader->SetFileName(vtu.c_str());
   reader->Update();
   return reader->GetOutput();
+}
+
+/// Static equilibrium of m at its nominal parameters in one load step of the full load (the
+/// solver of `flexsens static`), Newton to `tol` (StaticSettings::tol), from the initial positions.
+inline VecX staticEquilibrium(const Model& m, double tol = StaticSettings().tol) {
+  Assembler as(m);
+  StaticSettings set;
+  set.steps = 1;
+  set.stepLoadFactor = true;
+  set.tol = tol;
+  return solveStatic(as, m.nominalParameters(), m.initialPositions(), set);
 }
 
 /// A cell derivative array against five-point central differences of whole runs.

@@ -691,13 +691,7 @@ TEST(Shell, SimplySupportedPlateUnderUniformLoadMatchesNavier) {
          << ", ground: [edges]}\nstatic: {load_steps: 1}\n";
     const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
     const Model& m = *sc.model;
-    Assembler as(m);
-    const VecX p = m.nominalParameters();
-    StaticSettings set;
-    set.steps = 1;
-    set.stepLoadFactor = true;
-    set.tol = 1e-14;
-    const VecX qs = solveStatic(as, p, m.initialPositions(), set);
+    const VecX qs = test::staticEquilibrium(m, 1e-14);
     const double w = -qs[m.dof(m.nodeIndex("centre"), 2)];
     std::printf("Gmsh size %.3f: centre deflection %.6e m, Navier %.6e m, rel. error %+.4f\n", size, w, navier, (w - navier) / navier);
     EXPECT_LT(std::abs(w - navier) / navier, size > 0.03 ? 0.04 : 0.01);

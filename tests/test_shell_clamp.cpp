@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "ShellPlates.hpp"
+#include "StaticFrames.hpp"
 #include "TestModels.hpp"
 #include "core/Assembler.hpp"
 #include "core/SparseAccumulator.hpp"
@@ -411,13 +412,7 @@ TEST(ShellClamp, SceneCantileverStripUnderOwnWeight) {
          << ", clamp: [root]}\nstatic: {load_steps: 1}\n";
     const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
     const Model& m = *sc.model;
-    Assembler as(m);
-    const VecX p = m.nominalParameters();
-    StaticSettings set;
-    set.steps = 1;
-    set.stepLoadFactor = true;
-    set.tol = 1e-14;
-    const VecX qs = solveStatic(as, p, m.initialPositions(), set);
+    const VecX qs = test::staticEquilibrium(m, 1e-14);
     const int tip = m.nodeIndex("tip");
     const double w = -qs[m.dof(tip, 2)];
     std::vector<Eigen::Vector3d> X;

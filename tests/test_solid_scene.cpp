@@ -57,12 +57,7 @@ std::string barScene(double size, int order, double P) {
 double tipDeflection(const std::string& text, int* dofs = nullptr) {
   const Scene sc = readSceneText(text, dirOf() + "scene.yaml");
   const Model& m = *sc.model;
-  Assembler as(m);
-  const VecX p = m.nominalParameters();
-  StaticSettings set;
-  set.steps = 1;
-  set.stepLoadFactor = true;
-  const VecX q = solveStatic(as, p, m.initialPositions(), set);
+  const VecX q = test::staticEquilibrium(m);
   double sum = 0.0;
   int count = 0;
   for (size_t i = 0; i < m.nodes.size(); ++i)
