@@ -117,6 +117,9 @@ struct Problem {
   int n, m;
   SparseAccumulator acc;
   SparseAccumulator kq, kv;  ///< -dQ/dq, -dQ/dv for the sensitivity residuals
+  double tOfK = 0.0;         ///< time and state kq, kv were assembled at: in the staggered
+  VecX yOfK;                 ///< corrector IDAS calls the sensitivity residual at one (t, y)
+                             ///< once per iteration; the Jacobians are assembled once for all
   SpMat M;
   VecX pOfM;  ///< parameters M was computed at
   /// The mass matrix at the current p (recomputed only when IDAS has perturbed p).
@@ -187,7 +190,13 @@ int sensResidual(int Ns, double t, N_Vector yy, N_Vector yp, N_Vector, N_Vector*
   auto& pb = *static_cast<Problem*>(ud);
   try {
     pb.as->setTime(t);
-    gglForceJacobians(*pb.as, *pb.p, view(yy), pb.kq, pb.kv);
+    const auto y = view(yy);
+    // (a perturbed p (dq) never reaches here: dq has no sensitivity residual function)
+    if (pb.yOfK.size() != y.size() || t != pb.tOfK || pb.yOfK != y) {
+      gglForceJacobians(*pb.as, *pb.p, y, pb.kq, pb.kv);
+      pb.yOfK = y;
+      pb.tOfK = t;
+    }
     for (int k = 0; k < Ns; ++k) {
       auto r = view(rS[k]);
       r = gglSensitivityResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), k, view(yS[k]), view(ypS[k]),
@@ -238,7 +247,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   const int N = 2 * (n + m);
   const int Ns = static_cast<int>(start.dp.size());
   VecX pWork = p;  // IDAS' difference quotients perturb the parameters in place
-  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, {}, {}, {}, {}};
+  Problem pb{&as, &pWork, n, m, {}, {}, {}, 0.0, {}, {}, {}, {}, {}, {}};
   double t = start.x.t;
 
   SUNContext rawCtx = nullptr;
@@ -267,6 +276,12 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   VectorPtr atolv(N_VNew_Serial(N, ctx.get()));
   view(atolv.get()).head(2 * n).setConstant(set.atol);
   view(atolv.get()).tail(2 * m).setConstant(std::max(set.atol, std::sqrt(set.rtol)));
+  // So do the velocities of massless coordinates: v_m = q_m' is the BDF derivative of an
+  // algebraic q_m, so round-off in q_m reaches v_m times cj = O(1/h); with atol 1e-10 the
+  // corrector could not converge v_m below ~1e-8 s steps, cut h, and failed for good at
+  // h ~ 1e-12 s (massless satellite, rtol = atol = 1e-10, first step). v_m is out of the error
+  // test already (IDASetId 0, suppressed); q_m keeps rtol/atol.
+  for (int i : massless) view(atolv.get())[n + i] = std::max(set.atol, std::sqrt(set.rtol));
   check(IDASVtolerances(ida, set.rtol, atolv.get()), "IDASVtolerances", pb, t);
   check(IDASetUserData(ida, &pb), "IDASetUserData", pb, t);
   check(IDASetId(ida, id.get()), "IDASetId", pb, t);
@@ -339,59 +354,83 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     st.errorTestFailures = counter(IDAGetNumErrTestFails, "IDAGetNumErrTestFails");
     st.convergenceFailures = counter(IDAGetNumNonlinSolvConvFails, "IDAGetNumNonlinSolvConvFails");
   };
-  // The state (and sensitivities) IDAS returned at t: in one-step mode y, yp hold it.
-  auto current = [&] {
+  // The state (and sensitivities) at tq, from IDAS' interpolating polynomial of the last step
+  // (exact at its end point tq = t; valid back to its start).
+  VectorPtr yOut(N_VNew_Serial(N, ctx.get())), ypOut(N_VNew_Serial(N, ctx.get()));
+  std::vector<VectorPtr> ySOut, ypSOut;
+  std::vector<N_Vector> ySOutRaw, ypSOutRaw;
+  for (int k = 0; k < Ns; ++k) {
+    ySOut.emplace_back(N_VNew_Serial(N, ctx.get()));
+    ypSOut.emplace_back(N_VNew_Serial(N, ctx.get()));
+    ySOutRaw.push_back(ySOut.back().get());
+    ypSOutRaw.push_back(ypSOut.back().get());
+  }
+  auto stateAt = [&](double tq) {
+    check(IDAGetDky(ida, tq, 0, yOut.get()), "IDAGetDky", pb, tq);
+    check(IDAGetDky(ida, tq, 1, ypOut.get()), "IDAGetDky", pb, tq);
     StateWithSens out;
-    out.x = unpack(t, y.get(), yp.get(), n, m);
-    if (!out.x.q.allFinite()) check(IDA_CONV_FAIL, "IDASolve (non-finite state)", pb, t);
+    out.x = unpack(tq, yOut.get(), ypOut.get(), n, m);
+    if (!out.x.q.allFinite()) check(IDA_CONV_FAIL, "IDASolve (non-finite state)", pb, tq);
     if (Ns > 0) {
-      double ts = t;
-      check(IDAGetSens(ida, &ts, yS.data()), "IDAGetSens", pb, t);
-      check(IDAGetSensDky(ida, ts, 1, ypS.data()), "IDAGetSensDky", pb, t);
-      for (int k = 0; k < Ns; ++k) out.dp.push_back(unpack(t, yS[k], ypS[k], n, m));
+      check(IDAGetSensDky(ida, tq, 0, ySOutRaw.data()), "IDAGetSensDky", pb, tq);
+      check(IDAGetSensDky(ida, tq, 1, ypSOutRaw.data()), "IDAGetSensDky", pb, tq);
+      for (int k = 0; k < Ns; ++k) out.dp.push_back(unpack(tq, ySOutRaw[k], ypSOutRaw[k], n, m));
     }
+    as.setTime(tq);
+    if (m) st.maxConstraintViolation =
+        std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
     return out;
   };
   beginRun(obs, start);
   as.setTime(t);
   st.maxConstraintViolation = m ? as.phi(start.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
   const long nframes = outputCount(set.tEnd - t, set.frameInterval);
+  // (IDAS 6.4 cannot clear a stop time; one beyond the run's end stops nothing)
+  const double farStop = set.tEnd + std::max(1.0, std::abs(set.tEnd - t));
+  double stopSet = std::nan("");
   for (long f = 1; f <= nframes; ++f) {
     const double tout = (f == nframes) ? set.tEnd : start.x.t + f * set.frameInterval;
-    check(IDASetStopTime(ida, tout), "IDASetStopTime", pb, t);
-    // One step per call (the same steps as IDA_NORMAL with this stop time) so that a signal
-    // is seen after the step it arrived in, not only at the next frame. IDAS' own step limit
-    // (IDASetMaxNumSteps) counts per call, so one step per call needs our own.
-    for (long stepsThisFrame = 0;; ++stepsThisFrame) {
+    // Frames: IDAS lands on a frame time (a stop time) when that cuts its next step by at most
+    // half; otherwise it steps past it and the frame is interpolated (IDAGetDky, the method's
+    // own polynomial, as IDA_NORMAL does). A stop time at every frame made IDAS cut the step
+    // that reaches it to whatever was left, down to 1e-7 of the step before; at such a step the
+    // iteration matrix of the index-2 GGL form with massless parts is singular to round-off
+    // and the corrector failed for good (massless satellite, rtol 1e-8: t = 0.0199998 s, frame
+    // at 0.02 s). Landing where the cut is mild keeps the step sequence of the plain stop time
+    // elsewhere (the rigid five-bar at rtol 1e-10 needs it: stepping freely past every frame,
+    // its corrector stalls at h ~ 3e-8 s near t = 0.549 s).
+    // One step per call, so that a signal is seen after the step it arrived in. IDAS' own
+    // step limit (IDASetMaxNumSteps) counts per call, so one step per call needs our own.
+    for (long stepsThisFrame = 0; t < tout; ++stepsThisFrame) {
       if (stepsThisFrame >= kMaxIdasStepsPerFrame) {
         readCounters();
         obs.reached(st);
         check(IDA_TOO_MUCH_WORK, "IDASolve", pb, t);
       }
+      double hNext = 0.0;
+      check(IDAGetCurrentStep(ida, &hNext), "IDAGetCurrentStep", pb, t);
+      const double stop = (tout - t >= 0.5 * hNext) ? tout : farStop;
+      if (stop != stopSet) {
+        check(IDASetStopTime(ida, stop), "IDASetStopTime", pb, t);
+        stopSet = stop;
+      }
       double tret = t;
-      const int flag = IDASolve(ida, tout, &tret, y.get(), yp.get(), IDA_ONE_STEP);
+      const int flag = IDASolve(ida, set.tEnd, &tret, y.get(), yp.get(), IDA_ONE_STEP);
       if (flag < 0) {  // the failed run's summary reports the work done up to here
         readCounters();
         obs.reached(st);
       }
       check(flag, "IDASolve", pb, t);
       t = tret;
-      if (flag == IDA_TSTOP_RETURN || t >= tout) break;
-      if (interruptSignal()) {
+      if (t < tout && interruptSignal()) {
         readCounters();
-        StateWithSens out = current();
-        as.setTime(t);
-        if (m) st.maxConstraintViolation =
-            std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
+        StateWithSens out = stateAt(t);
         endStep(obs, out, st, false);  // writes the state reached and throws Interrupted
       }
       obs.stepped(unpack(t, y.get(), yp.get(), n, m));
-      obs.progress(t);
+      obs.progress(std::min(t, set.tEnd));
     }
-    StateWithSens out = current();
-    as.setTime(t);
-    if (m) st.maxConstraintViolation =
-        std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
+    StateWithSens out = stateAt(tout);
     readCounters();
     endStep(obs, out, st, true);
   }

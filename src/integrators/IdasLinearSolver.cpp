@@ -11,6 +11,7 @@ struct Content {
   SparseLU* lu;
   std::string* failure;
   SpMat A;  ///< the matrix of the last setup, as Eigen's CSC
+  MatX rhs;  ///< solve()'s workspace (one column)
   long lastFlag = 0;
 };
 
@@ -38,10 +39,10 @@ int setup(SUNLinearSolver S, SUNMatrix J) {
 int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   Content& c = content(S);
   const int64_t N = N_VGetLength(b);
-  MatX rhs = Eigen::Map<const VecX>(N_VGetArrayPointer(b), N);
-  c.lu->solve(rhs);
-  Eigen::Map<VecX>(N_VGetArrayPointer(x), N) = rhs.col(0);
-  c.lastFlag = rhs.allFinite() ? SUNLS_SUCCESS : SUNLS_PACKAGE_FAIL_REC;
+  c.rhs = Eigen::Map<const VecX>(N_VGetArrayPointer(b), N);
+  c.lu->solve(c.rhs);
+  Eigen::Map<VecX>(N_VGetArrayPointer(x), N) = c.rhs.col(0);
+  c.lastFlag = c.rhs.allFinite() ? SUNLS_SUCCESS : SUNLS_PACKAGE_FAIL_REC;
   return int(c.lastFlag);
 }
 
@@ -67,7 +68,7 @@ SUNLinearSolver sparseLULinearSolver(SUNContext ctx, SparseLU& lu, std::string& 
   S->ops->solve = solve;
   S->ops->lastflag = lastFlag;
   S->ops->free = destroy;
-  S->content = new Content{&lu, &failure, SpMat(), 0};
+  S->content = new Content{&lu, &failure, SpMat(), MatX(), 0};
   return S;
 }
 

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The converged reference of the massless satellite (issue #14): IDAS over the full 10 s of
+# examples/satellite/satellite_massless.yaml at rtol = atol = 1e-6, 1e-8, 1e-10 for a PIM case,
+# with the analytic sensitivities (dd), frames every 0.1 s.
+#   bash bench/satellite_reference/run.sh CASE RTOL [RTOL ...]   (e.g. SAT1 1e-10 1e-8)
+# Each run writes bench/satellite_reference/runs/CASE_rRTOL/ (series.csv, summary.json) and
+# its CPU time to .../cpu.txt; runs of one call go one after another (start two calls to use
+# two cores). analyze.py compares them. FLEXSENS: the binary (default build/flexsens).
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+bin="${FLEXSENS:-$root/build/flexsens}"
+case_name="$1"; shift
+mkdir -p "$here/runs"
+for rtol in "$@"; do
+  out="$here/runs/${case_name}_r${rtol}"
+  scene="$(mktemp --suffix=.yaml)"
+  # rtol = atol (positions in m, velocities in m/s, sensitivities scaled by IDAS from these)
+  sed -e "s/^  rtol: .*/  rtol: $rtol/" -e "s/^  atol: .*/  atol: $rtol/" \
+      -e "s#gmsh: ../../meshes#gmsh: $root/meshes#" \
+      "$root/examples/satellite/satellite_massless.yaml" > "$scene"
+  rm -rf "$out"
+  /usr/bin/time -f "%U %S %e %M" -o "$out.time" \
+    "$bin" run "$scene" --integrator idas --case "$case_name" --t-end 10 --out "$out" \
+    > "$out.log" 2>&1 || echo "run $case_name rtol $rtol failed: see $out.log"
+  mkdir -p "$out"; mv "$out.time" "$out/cpu.txt"; mv "$out.log" "$out/run.log"
+  rm -f "$out"/*/frame_*.vtu "$scene"   # keep the series and the summary (frames: 50 MB)
+done
