@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/RedundantRows.hpp"
+#include "integrators/InitialState.hpp"
 #include "output/ResultWriter.hpp"
 
 namespace flexsens {
@@ -18,6 +19,8 @@ RunHealth::RunHealth(const Assembler& as, const VecX& p, Observer& next) : Forwa
     size_ = std::max((hi - lo).norm(), 1e-3);
   }
   condChecked_ = m.m > 0 && static_cast<double>(m.m) * m.m * m.n <= kConditioningWork;
+  massless_ = masslessCoordinates(as, p);
+  if (static_cast<int>(massless_.size()) > kMasslessCheckMax) massless_.clear();
 }
 
 void RunHealth::frame(const StateWithSens& s) {
@@ -38,6 +41,15 @@ void RunHealth::frame(const StateWithSens& s) {
     const double c = ev[ev.size() - 1] > 0 ? std::sqrt(std::max(ev[0], 0.0) / ev[ev.size() - 1]) : 0.0;
     if (c < cond_) cond_ = c, tCond_ = s.x.t;
   }
+  if (!massless_.empty()) {
+    const MasslessStability ms = masslessStability(as_, s.x, p_, massless_);
+    if (ms.maxEigenvalue > 0.0 && masslessRatio0_ == 0.0) masslessRatio0_ = ms.minEigenvalue / ms.maxEigenvalue;
+    if (ms.maxEigenvalue > 0.0 && ms.minEigenvalue / ms.maxEigenvalue < masslessRatio_) {
+      masslessRatio_ = ms.minEigenvalue / ms.maxEigenvalue;
+      tMassless_ = s.x.t;
+      masslessCoordinate_ = ms.coordinate;
+    }
+  }
   next_.frame(s);
 }
 
@@ -56,12 +68,29 @@ std::string RunHealth::reason() const {
        << "(a branch switch at a singular configuration, smallest sigma(Phi_q) ratio " << cond_ << " at t = " << tCond_
        << " s) or in chaotic motion: try generalized_alpha or a smaller dt, and compare";
   }
+  if (masslessRatio_ < -kMasslessUnstable) {
+    if (os.tellp() > 0) os << "; ";
+    os << masslessWords();
+  }
+  return os.str();
+}
+
+std::string RunHealth::masslessWords() const {
+  std::ostringstream os;
+  os << "a massless part lost its stiffness: the smallest eigenvalue of the massless coordinates' "
+     << "reduced tangent stiffness reached " << masslessRatio_ << " of the largest at the frame t = " << tMassless_
+     << " s (" << masslessRatio0_ << " at the start, softest in " << masslessCoordinate_
+     << "), so its quasi-static equilibrium "
+     << (masslessRatio_ < 0 ? "was unstable (buckling or snap-through)" : "came near a fold")
+     << ", where a part without mass has no continuing motion and the result depends on the scheme; "
+     << "give that part its mass (remove inertia: none)";
   return os.str();
 }
 
 std::string RunHealth::failureHint() const {
-  if (!condChecked_ || !(cond_ < kNearSingular)) return "";
   std::ostringstream os;
+  if (!massless_.empty() && masslessRatio_ < 1e-2 * masslessRatio0_) os << "; " << masslessWords();
+  if (!condChecked_ || !(cond_ < kNearSingular)) return os.str();
   os << "; the constraint Jacobian was near rank loss before (smallest sigma_min/sigma_max of Phi_q "
      << cond_ << " at the frame t = " << tCond_ << " s): a singular configuration (e.g. bars passing a collinear "
      << "position), where the motion may switch branch; generalized_alpha (rho_inf < 1) passes such "
@@ -79,6 +108,10 @@ std::string RunHealth::json() const {
      << ", \"model_size_m\": " << jsonNumber(size_);
   if (condChecked_)
     os << ", \"min_constraint_conditioning\": " << jsonNumber(cond_) << ", \"conditioning_at_t\": " << jsonNumber(tCond_);
+  if (!massless_.empty())
+    os << ", \"min_massless_stiffness_ratio\": " << jsonNumber(masslessRatio_) << ", \"massless_stiffness_at_t\": "
+       << jsonNumber(tMassless_) << ", \"massless_softest_coordinate\": " << jsonString(masslessCoordinate_)
+       << ", \"initial_massless_stiffness_ratio\": " << jsonNumber(masslessRatio0_);
   os << "}";
   return os.str();
 }

@@ -8,10 +8,15 @@
 //    N-four-bar on maggi_rk4 reaches 1e6 after taking the wrong branch at a singular passage,
 //    generalized-alpha's correct run stays below 1);
 //  - the conditioning of Phi_q, sigma_min / sigma_max (from the eigenvalues of Phi_q Phi_q^T),
-//    reported with its time: a near-singular passage, where a scheme may change branch.
+//    reported with its time: a near-singular passage, where a scheme may change branch;
+//  - with massless parts, the stability of their equilibrium (integrators/InitialState.hpp,
+//    masslessStability): a reduced stiffness eigenvalue below -kMasslessUnstable of the
+//    largest makes the run `suspect` (a massless part buckled or snapped through, where the
+//    massless idealization has no continuing solution and the result depends on the scheme).
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/Assembler.hpp"
 #include "integrators/State.hpp"
@@ -22,6 +27,8 @@ inline constexpr double kLeftOutTolerance = 1e-6;    ///< |Phi| of a left-out ro
 inline constexpr double kSensitivityBlowUp = 1e3;    ///< relative sensitivity |dq/dp| |p| / L [-]
 inline constexpr double kConditioningWork = 1e8;     ///< m^2 n per frame above which it is skipped
 inline constexpr double kNearSingular = 0.05;        ///< sigma_min / sigma_max of Phi_q [-]
+inline constexpr double kMasslessUnstable = 1e-9;    ///< -lambda_min / lambda_max of the massless stiffness [-]
+inline constexpr int kMasslessCheckMax = 3000;       ///< massless coordinates above which it is skipped
 
 class RunHealth : public ForwardingObserver {
  public:
@@ -32,6 +39,8 @@ class RunHealth : public ForwardingObserver {
   /// For a failed run's message: when Phi_q came near rank loss at a frame (sigma ratio below
   /// kNearSingular), "; " and where, in plain words; empty otherwise.
   std::string failureHint() const;
+  /// The massless parts' stability in plain words (for reason() and failureHint()).
+  std::string masslessWords() const;
   /// summary.json's "health" object.
   std::string json() const;
 
@@ -44,6 +53,10 @@ class RunHealth : public ForwardingObserver {
   int sensParam_ = -1;
   double cond_ = 1.0, tCond_ = 0.0;
   bool condChecked_ = false;
+  std::vector<int> massless_;  ///< massless coordinates (checked when 0 < size <= kMasslessCheckMax)
+  double masslessRatio_ = 1.0, tMassless_ = 0.0;  ///< smallest lambda_min / lambda_max, its time
+  double masslessRatio0_ = 0.0;                   ///< the same at the first frame
+  std::string masslessCoordinate_;
 };
 
 }  // namespace flexsens

@@ -47,8 +47,28 @@ std::vector<int> Assembler::dofMap(const std::vector<int>& nodes, int gradients)
 
 LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, const VecX& v,
                                  const VecX& p, int gradients) const {
-  const int d = model_.dim;
   LocalState s;
+  fillLocalState(s, nodes, q, v, p, gradients);
+  return s;
+}
+
+const LocalState& Assembler::elementState(size_t e, const VecX& q, const VecX& v, const VecX& p) const {
+  if (elemScratch_.size() != model_.elements.size()) elemScratch_.resize(model_.elements.size());
+  const Element& el = *model_.elements[e];
+  fillLocalState(elemScratch_[e], el.nodes(), q, v, p, el.gradients());
+  return elemScratch_[e];
+}
+
+const LocalState& Assembler::constraintState(size_t c, const VecX& q, const VecX& v, const VecX& p) const {
+  if (consScratch_.size() != cons_.size()) consScratch_.resize(cons_.size());
+  const Constraint& co = *cons_[c];
+  fillLocalState(consScratch_[c], co.nodes(), q, v, p, co.gradients());
+  return consScratch_[c];
+}
+
+void Assembler::fillLocalState(LocalState& s, const std::vector<int>& nodes, const VecX& q,
+                               const VecX& v, const VecX& p, int gradients) const {
+  const int d = model_.dim;
   s.dim = d;
   s.gradients = gradients;
   const int w = s.nodeSize();
@@ -79,7 +99,6 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
   } else {
     s.gravity = &model_.gravity;
   }
-  return s;
 }
 
 // ------------------------------------------------------------------ local derivative kernels
@@ -125,7 +144,7 @@ VecX Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool 
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     if (potentialOnly && el.externalWork()) continue;  // no potential: all its force is work
-    el.force(localState(el, q, v, p), Ql);
+    el.force(elementState(e, q, v, p), Ql);
     if (el.isLoad()) Ql *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
@@ -139,7 +158,7 @@ VecX Assembler::phi(const VecX& q, const VecX& p) const {
   VecX pl;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    co.phi(localState(co, q, VecX(), p), pl);
+    co.phi(constraintState(c, q, VecX(), p), pl);
     r.segment(consRow_[c], co.rows()) = pl;
   }
   return r;
@@ -150,7 +169,7 @@ VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    constraintJacobian(co, localState(co, q, VecX(), p), J);
+    constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     const auto& map = consDofs_[c];
     for (size_t j = 0; j < map.size(); ++j)
       if (map[j] >= 0) r.segment(consRow_[c], co.rows()) += J.col(j) * x[map[j]];
@@ -163,7 +182,7 @@ VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) 
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    constraintJacobian(co, localState(co, q, VecX(), p), J);
+    constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     const auto& map = consDofs_[c];
     const VecX g = J.transpose() * l.segment(consRow_[c], co.rows());
     for (size_t j = 0; j < map.size(); ++j)
@@ -190,7 +209,7 @@ VecX Assembler::hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, co
   MatX H;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState s = localState(co, q, VecX(), p);
+    const LocalState& s = constraintState(c, q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v), xl = gather(consDofs_[c], x);
     for (int i = 0; i < co.rows(); ++i) {
       constraintHessian(co, s, i, H);
@@ -205,7 +224,7 @@ VecX Assembler::hessianTimes(const VecX& q, const VecX& p, const VecX& w, const 
   MatX H;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState s = localState(co, q, VecX(), p);
+    const LocalState& s = constraintState(c, q, VecX(), p);
     const auto& map = consDofs_[c];
     const VecX xl = gather(map, x);
     for (int i = 0; i < co.rows(); ++i) {
@@ -228,7 +247,7 @@ VecX Assembler::driverRows(const VecX& q, const VecX& v, const VecX& p, Pick pic
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
     if (!co.rheonomic()) continue;
-    co.timeDerivatives(localState(co, q, v, p), pt, pqt, g, dg);
+    co.timeDerivatives(constraintState(c, q, v, p), pt, pqt, g, dg);
     r.segment(consRow_[c], co.rows()) = pick(c, pt, pqt, g, dg);
   }
   return r;
@@ -261,7 +280,7 @@ VecX Assembler::phiTParamDerivative(const VecX& q, const VecX& p, int k) const {
   VecX ptp, gp;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (co.rheonomic() && co.timeParameterDerivative(localState(co, q, VecX(), p), k, ptp, gp))
+    if (co.rheonomic() && co.timeParameterDerivative(constraintState(c, q, VecX(), p), k, ptp, gp))
       r.segment(consRow_[c], co.rows()) = ptp;
   }
   return r;
@@ -274,7 +293,7 @@ VecX Assembler::accelerationTimeTermsParamDerivative(const VecX& q, const VecX& 
   VecX ptp, gp;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (co.rheonomic() && co.timeParameterDerivative(localState(co, q, v, p), k, ptp, gp))
+    if (co.rheonomic() && co.timeParameterDerivative(constraintState(c, q, v, p), k, ptp, gp))
       r.segment(consRow_[c], co.rows()) = gp;
   }
   return r;
@@ -288,7 +307,7 @@ void Assembler::addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, d
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
     if (!co.rheonomic()) continue;
-    co.timeDerivatives(localState(co, q, VecX(), p), pt, pqt, g, dg);
+    co.timeDerivatives(constraintState(c, q, VecX(), p), pt, pqt, g, dg);
     acc.addBlock(iota(consRow_[c], co.rows()), consDofs_[c], pqt, s, r0, c0);
   }
 }
@@ -321,7 +340,7 @@ void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t
   const VecX q0 = model_.initialPositions();  // mass is configuration independent
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    const LocalState ls = localState(el, q0, none, p);
+    const LocalState& ls = elementState(e, q0, none, p);
     if (el.mass(ls, Ml)) acc.addBlock(elemDofs_[e], elemDofs_[e], Ml, s, r0, c0);
   }
 }
@@ -332,10 +351,22 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
   MatX Kq, Kv;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    elementForceJacobian(el, localState(el, q, v, p), Kq, Kv);
+    elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq * lf, r0, cq);
     if (sv != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kv, -sv * lf, r0, cv);
+  }
+}
+
+void Assembler::addForceJacobians(SparseAccumulator& kq, SparseAccumulator& kv,
+                                          const VecX& q, const VecX& v, const VecX& p) const {
+  MatX Kq, Kv;
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
+    const double lf = el.isLoad() ? loadFactor_ : 1.0;
+    kq.addBlock(elemDofs_[e], elemDofs_[e], Kq, lf, 0, 0);
+    if (!Kv.isZero(0.0)) kv.addBlock(elemDofs_[e], elemDofs_[e], Kv, lf, 0, 0);
   }
 }
 
@@ -347,11 +378,11 @@ void Assembler::addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, c
   const VecX q0 = model_.initialPositions();  // mass is configuration independent
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    elementForceJacobian(el, localState(el, q, v, p), Kq, Kv);
+    elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     Kq *= -sq * lf;
     if (sv != 0.0) Kq -= (sv * lf) * Kv;
-    if (sm != 0.0 && el.mass(localState(el, q0, none, p), Ml)) Kq += sm * Ml;
+    if (sm != 0.0 && el.mass(elementState(e, q0, none, p), Ml)) Kq += sm * Ml;
     acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, 1.0, r0, c0);
   }
 }
@@ -361,7 +392,7 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
   MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    constraintJacobian(co, localState(co, q, VecX(), p), J);
+    constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     const std::vector<int> rows = iota(consRow_[c], co.rows());
     if (transposed)
       acc.addBlock(consDofs_[c], rows, J.transpose(), s, r0, c0);
@@ -375,7 +406,7 @@ void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p,
   MatX H, sum;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState ls = localState(co, q, VecX(), p);
+    const LocalState& ls = constraintState(c, q, VecX(), p);
     const int nl = static_cast<int>(consDofs_[c].size());
     sum.setZero(nl, nl);
     for (int i = 0; i < co.rows(); ++i) {
@@ -391,7 +422,7 @@ void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX
   MatX H;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    const LocalState ls = localState(co, q, VecX(), p);
+    const LocalState& ls = constraintState(c, q, VecX(), p);
     const VecX vl = gather(consDofs_[c], v);
     MatX rowsBlock(co.rows(), consDofs_[c].size());
     for (int i = 0; i < co.rows(); ++i) {
@@ -413,7 +444,7 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
     if (model_.gravityParam[c] != k) continue;
     for (size_t e = 0; e < model_.elements.size(); ++e) {
       const auto& el = *model_.elements[e];
-      if (!el.mass(localState(el, q, v, p), dM)) continue;
+      if (!el.mass(elementState(e, q, v, p), dM)) continue;
       // A uniform translation e_c: 1 on every node's position component c, 0 on gradients.
       const int w = (1 + el.gradients()) * model_.dim;
       VecX unit = VecX::Zero(dM.cols());
@@ -426,7 +457,7 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
   }
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    if (!elementParameterDerivative(el, localState(el, q, v, p), k, dQ, dM)) continue;
+    if (!elementParameterDerivative(el, elementState(e, q, v, p), k, dQ, dM)) continue;
     if (el.isLoad()) dQ *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
@@ -442,7 +473,7 @@ VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) co
   const VecX q0 = model_.initialPositions();
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    if (!elementParameterDerivative(el, localState(el, q0, VecX(), p), k, dQ, dM)) continue;
+    if (!elementParameterDerivative(el, elementState(e, q0, VecX(), p), k, dQ, dM)) continue;
     if (dM.size() == 0) continue;
     const auto& map = elemDofs_[e];
     const VecX g = dM * gather(map, a);
@@ -458,7 +489,7 @@ VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (constraintParameterDerivative(co, localState(co, q, VecX(), p), k, dphi, dJ))
+    if (constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ))
       r.segment(consRow_[c], co.rows()) = dphi;
   }
   return r;
@@ -470,7 +501,7 @@ VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, co
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (constraintParameterDerivative(co, localState(co, q, VecX(), p), k, dphi, dJ) && dJ.size())
+    if (constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ) && dJ.size())
       r.segment(consRow_[c], co.rows()) = dJ * gather(consDofs_[c], x);
   }
   return r;
@@ -483,7 +514,7 @@ VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, 
   MatX dJ;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    if (!constraintParameterDerivative(co, localState(co, q, VecX(), p), k, dphi, dJ) || !dJ.size())
+    if (!constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ) || !dJ.size())
       continue;
     const VecX g = dJ.transpose() * l.segment(consRow_[c], co.rows());
     const auto& map = consDofs_[c];

@@ -94,6 +94,10 @@ class Assembler {
   /// Adds -sq dQ/dq at (r0, cq) and -sv dQ/dv at (r0, cv).
   void addForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v, const VecX& p,
                         double sq, double sv, int64_t r0, int64_t cq, int64_t cv) const;
+  /// dQ/dq into kq and dQ/dv into kv (each n x n, begun by the caller), one element
+  /// Jacobian per element for both; elements without velocity dependence add nothing to kv.
+  void addForceJacobians(SparseAccumulator& kq, SparseAccumulator& kv, const VecX& q,
+                         const VecX& v, const VecX& p) const;
   /// sm M - sq dQ/dq - sv dQ/dv at (r0, c0), one block per element: the fixed-step Newton
   /// matrix's top-left block with a third of the scatter of addMass + addForceJacobian.
   void addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v, const VecX& p,
@@ -126,6 +130,10 @@ class Assembler {
   LocalState localState(const Constraint& c, const VecX& q, const VecX& v, const VecX& p) const {
     return localState(c.nodes(), q, v, p, c.gradients());
   }
+  /// The local state of element e / constraint c in a buffer kept per element / constraint
+  /// (no allocation once sized; valid until the next call for the same e / c).
+  const LocalState& elementState(size_t e, const VecX& q, const VecX& v, const VecX& p) const;
+  const LocalState& constraintState(size_t c, const VecX& q, const VecX& v, const VecX& p) const;
   const std::vector<int>& elementDofs(size_t e) const { return elemDofs_[e]; }
   const std::vector<int>& constraintDofs(size_t c) const { return consDofs_[c]; }
   int constraintRow(size_t c) const { return consRow_[c]; }
@@ -154,6 +162,9 @@ class Assembler {
   /// Gravity at the p of the current evaluation when a component is a design parameter
   /// (elements read gravity through a pointer). Makes an Assembler single-threaded.
   mutable VecX gravityAtP_;
+  void fillLocalState(LocalState& s, const std::vector<int>& nodes, const VecX& q, const VecX& v,
+                      const VecX& p, int gradients) const;
+  mutable std::vector<LocalState> elemScratch_, consScratch_;  ///< elementState, constraintState
   bool gravityBound_ = false;
   mutable double loadFactor_ = 1.0;
   mutable double time_ = 0.0;

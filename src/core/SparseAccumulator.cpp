@@ -77,4 +77,12 @@ const SpMat& SparseAccumulator::finish() {
   return mat_;
 }
 
+void SparseAccumulator::setRowsToIdentity(const std::vector<int>& rows) {
+  if (rows.empty()) return;
+  for (Eigen::Index j = 0; j < mat_.outerSize(); ++j)
+    for (SpMat::InnerIterator it(mat_, j); it; ++it)
+      if (std::binary_search(rows.begin(), rows.end(), static_cast<int>(it.row())))
+        it.valueRef() = it.row() == j ? 1.0 : 0.0;
+}
+
 }  // namespace flexsens

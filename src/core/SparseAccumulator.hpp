@@ -29,6 +29,9 @@ class SparseAccumulator {
                 double s, int64_t r0 = 0, int64_t c0 = 0);
   const SpMat& finish();
   const SpMat& matrix() const { return mat_; }
+  /// After finish(): rows `rows` (sorted) of the matrix become rows of the identity, their
+  /// other entries explicit zeros (the diagonal must be in the pattern: add it as 0).
+  void setRowsToIdentity(const std::vector<int>& rows);
 
  private:
   struct Trip { int64_t r, c; double v; };

@@ -5,6 +5,7 @@
 #include <nvector/nvector_serial.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -19,7 +20,25 @@
 namespace flexsens {
 
 // ------------------------------------------------------------------ the GGL system
-VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y, const VecX& yp) {
+std::vector<int> gglPinnedRows(const Assembler& as, const VecX& p, const std::vector<int>& massless) {
+  if (massless.empty() || as.m() == 0) return {};
+  const VecX q0 = as.model().initialPositions();
+  std::vector<char> isMassless(as.n(), 0);
+  for (int i : massless) isMassless[i] = 1;
+  std::vector<int> rows;
+  for (size_t c = 0; c < as.constraints().size(); ++c) {
+    bool touches = false;
+    for (int i : as.constraintDofs(c)) touches = touches || (i >= 0 && isMassless[i]);
+    if (!touches) continue;
+    for (int r = 0; r < as.constraints()[c]->rows(); ++r) rows.push_back(as.constraintRow(c) + r);
+  }
+  (void)p;
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y, const VecX& yp,
+                 const std::vector<int>& pinned) {
   const int n = as.n(), m = as.m();
   const VecX q = y.segment(0, n), v = y.segment(n, n);
   const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
@@ -29,12 +48,13 @@ VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX&
   if (m) {
     r.segment(2 * n, m) = as.phi(q, p);
     r.segment(2 * n + m, m) = as.phiQTimes(q, p, v) + as.phiT(q, p);  // d Phi/dt = 0 (drivers: Phi_t)
+    for (int row : pinned) r[2 * n + m + row] = mu[row];
   }
   return r;
 }
 
 const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, double cj,
-                         SparseAccumulator& acc) {
+                         SparseAccumulator& acc, const std::vector<int>& pinned) {
   const int n = as.n(), m = as.m();
   const VecX q = y.segment(0, n), v = y.segment(n, n);
   const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
@@ -55,7 +75,14 @@ const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, doub
   as.addHessianRows(acc, q, p, v, 1.0, 2 * n + m, 0);
   as.addPhiQT(acc, q, p, 1.0, 2 * n + m, 0);
   as.addPhiQ(acc, q, p, 1.0, 2 * n + m, n, false);
-  return acc.finish();
+  std::vector<int> pinnedRows;
+  for (int row : pinned) {
+    acc.add(2 * n + m + row, 2 * n + m + row, 0.0);
+    pinnedRows.push_back(2 * n + m + row);
+  }
+  acc.finish();
+  acc.setRowsToIdentity(pinnedRows);
+  return acc.matrix();
 }
 
 void gglForceJacobians(const Assembler& as, const VecX& p, const VecX& y, SparseAccumulator& kq,
@@ -63,23 +90,23 @@ void gglForceJacobians(const Assembler& as, const VecX& p, const VecX& y, Sparse
   const int n = as.n();
   const VecX q = y.segment(0, n), v = y.segment(n, n);
   kq.begin(n, n);
-  as.addForceJacobian(kq, q, v, p, -1.0, 0.0, 0, 0, 0);
-  kq.finish();
   kv.begin(n, n);
-  as.addForceJacobian(kv, q, v, p, 0.0, -1.0, 0, 0, 0);
+  as.addForceJacobians(kq, kv, q, v, p);
+  kq.finish();
   kv.finish();
 }
 
 VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
-                            const VecX& yp, int k, const VecX& s, const VecX& sd) {
+                            const VecX& yp, int k, const VecX& s, const VecX& sd,
+                            const std::vector<int>& pinned) {
   SparseAccumulator kq, kv;
   gglForceJacobians(as, p, y, kq, kv);
-  return gglSensitivityResidual(as, p, M, y, yp, k, s, sd, kq.matrix(), kv.matrix());
+  return gglSensitivityResidual(as, p, M, y, yp, k, s, sd, kq.matrix(), kv.matrix(), pinned);
 }
 
 VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
-                            const VecX& yp, int k, const VecX& s, const VecX& sd, const SpMat& negQq,
-                            const SpMat& negQv) {
+                            const VecX& yp, int k, const VecX& s, const VecX& sd, const SpMat& Qq,
+                            const SpMat& Qv, const std::vector<int>& pinned) {
   const int n = as.n(), m = as.m();
   const VecX q = y.segment(0, n), v = y.segment(n, n);
   const VecX lam = y.segment(2 * n, m), mu = y.segment(2 * n + m, m);
@@ -90,13 +117,14 @@ VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, 
                     as.hessianTimes(q, p, mu, sq) + as.phiQParamDerivativeTransposeTimes(q, p, k, mu);
   r.segment(n, n) = M * sd.segment(n, n) + as.massParamDerivativeTimes(p, k, yp.segment(n, n)) +
                     as.phiQTransposeTimes(q, p, sl) + as.hessianTimes(q, p, lam, sq) +
-                    as.phiQParamDerivativeTransposeTimes(q, p, k, lam) - negQq * sq -
-                    negQv * sv - as.forceParamDerivative(q, v, p, k);
+                    as.phiQParamDerivativeTransposeTimes(q, p, k, lam) - Qq * sq -
+                    Qv * sv - as.forceParamDerivative(q, v, p, k);
   if (m) {
     r.segment(2 * n, m) = as.phiQTimes(q, p, sq) + as.phiParamDerivative(q, p, k);
     r.segment(2 * n + m, m) = as.phiQTimes(q, p, sv) + as.hessianRowsTimes(q, p, v, sq) +
                               as.phiQParamDerivativeTimes(q, p, k, v) + as.phiQTTimes(q, p, sq) +
                               as.phiTParamDerivative(q, p, k);
+    for (int row : pinned) r[2 * n + m + row] = sm[row];
   }
   return r;
 }
@@ -116,7 +144,8 @@ struct Problem {
   VecX* p;  ///< IDAS perturbs it in place with the difference-quotient method (dq)
   int n, m;
   SparseAccumulator acc;
-  SparseAccumulator kq, kv;  ///< -dQ/dq, -dQ/dv for the sensitivity residuals
+  std::vector<int> pinned;   ///< gglPinnedRows
+  SparseAccumulator kq, kv;  ///< dQ/dq, dQ/dv for the sensitivity residuals
   double tOfK = 0.0;         ///< time and state kq, kv were assembled at: in the staggered
   VecX yOfK;                 ///< corrector IDAS calls the sensitivity residual at one (t, y)
                              ///< once per iteration; the Jacobians are assembled once for all
@@ -160,7 +189,7 @@ int residual(double t, N_Vector yy, N_Vector yp, N_Vector rr, void* ud) {
   try {
     pb.as->setTime(t);
     auto r = view(rr);
-    r = gglResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp));
+    r = gglResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), pb.pinned);
     return r.allFinite() ? 0 : 1;  // recoverable: IDAS retries with a smaller step
   } catch (const std::exception& e) {
     pb.failure = e.what();
@@ -173,7 +202,7 @@ int jacobian(double t, double cj, N_Vector yy, N_Vector, N_Vector, SUNMatrix J, 
   auto& pb = *static_cast<Problem*>(ud);
   try {
     pb.as->setTime(t);
-    const SpMat& A = gglJacobian(*pb.as, *pb.p, view(yy), cj, pb.acc);
+    const SpMat& A = gglJacobian(*pb.as, *pb.p, view(yy), cj, pb.acc, pb.pinned);
     if (SUNSparseMatrix_NNZ(J) < A.nonZeros()) SUNSparseMatrix_Reallocate(J, A.nonZeros());
     std::memcpy(SUNSparseMatrix_IndexPointers(J), A.outerIndexPtr(), sizeof(int64_t) * (A.cols() + 1));
     std::memcpy(SUNSparseMatrix_IndexValues(J), A.innerIndexPtr(), sizeof(int64_t) * A.nonZeros());
@@ -200,7 +229,7 @@ int sensResidual(int Ns, double t, N_Vector yy, N_Vector yp, N_Vector, N_Vector*
     for (int k = 0; k < Ns; ++k) {
       auto r = view(rS[k]);
       r = gglSensitivityResidual(*pb.as, *pb.p, pb.mass(), view(yy), view(yp), k, view(yS[k]), view(ypS[k]),
-                                 pb.kq.matrix(), pb.kv.matrix());
+                                 pb.kq.matrix(), pb.kv.matrix(), pb.pinned);
     }
     return 0;
   } catch (const std::exception& e) {
@@ -238,6 +267,8 @@ State unpack(double t, N_Vector y, N_Vector yp, int n, int m) {
 
 }  // namespace
 
+/// Corrector iterations the staggered sensitivity solve may take per step (IDAS' default 4).
+constexpr int kIdasSensitivityIterations = 10;
 /// Steps IDAS may take between two frames before the run stops as too much work.
 constexpr long kMaxIdasStepsPerFrame = 1000000;
 
@@ -247,7 +278,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   const int N = 2 * (n + m);
   const int Ns = static_cast<int>(start.dp.size());
   VecX pWork = p;  // IDAS' difference quotients perturb the parameters in place
-  Problem pb{&as, &pWork, n, m, {}, {}, {}, 0.0, {}, {}, {}, {}, {}, {}};
+  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, 0.0, {}, {}, {}, {}, {}, {}};
   double t = start.x.t;
 
   SUNContext rawCtx = nullptr;
@@ -263,6 +294,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     throw InputError("integrator idas: every coordinate is massless (inertia: none), the model is "
                      "static; use bdf1 or trapezoidal (each step an equilibrium) or the static solver");
   for (int i : massless) view(id.get())[i] = view(id.get())[n + i] = 0.0;
+  pb.pinned = gglPinnedRows(as, p, massless);
 
   std::unique_ptr<void, IdaDeleter> mem(IDACreate(ctx.get()));
   if (!mem) throw NumericalError("IDAS: IDACreate failed");
@@ -334,6 +366,12 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       check(IDASensInit(ida, Ns, IDA_STAGGERED, sensResidual, yS.data(), ypS.data()), "IDASensInit", pb, t);
     }
     check(IDASensEEtolerances(ida), "IDASensEEtolerances", pb, t);
+    // The staggered sensitivity corrector iterates with the state's (possibly older) iteration
+    // matrix; IDAS allows it 4 iterations, after which the step fails and h is cut. At rtol
+    // 1e-10 the rigid five-bar (case R3) then failed for good at t = 1.436 s, and the massless
+    // satellite at rtol 1e-8 at t = 1.69 s; with 10 both run through (the equations are
+    // linear: more iterations of a contracting iteration cost no accuracy).
+    check(IDASetSensMaxNonlinIters(ida, kIdasSensitivityIterations), "IDASetSensMaxNonlinIters", pb, t);
     check(IDASetSensErrCon(ida, set.sensitivityErrorControl ? SUNTRUE : SUNFALSE), "IDASetSensErrCon", pb, t);
   }
 

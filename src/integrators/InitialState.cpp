@@ -1,5 +1,7 @@
 #include "integrators/InitialState.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -205,6 +207,36 @@ struct MasslessBlock {
 };
 
 }  // namespace
+
+MasslessStability masslessStability(const Assembler& as, const State& s, const VecX& p,
+                                    const std::vector<int>& massless) {
+  MasslessStability r;
+  if (massless.empty()) return r;
+  const VecX lambda = s.lambda.size() == as.m() ? s.lambda : VecX(VecX::Zero(as.m()));
+  const MasslessBlock b(as, s.q, s.v, lambda, p, massless);
+  const int a = static_cast<int>(b.mc.size());
+  MatX Kmm = b.J.topLeftCorner(a, a);
+  MatX Z = MatX::Identity(a, a);
+  if (!b.cr.empty()) {
+    MatX C(b.cr.size(), a);
+    for (size_t j = 0; j < b.cr.size(); ++j)
+      for (int i = 0; i < a; ++i) C(j, i) = b.Jq(b.cr[j], b.mc[i]);
+    Eigen::FullPivLU<MatX> lu(C);
+    lu.setThreshold(1e-10);
+    Z = lu.kernel();
+    if (lu.rank() == a) return r;  // the constraints fix every massless coordinate
+    Z = Z.householderQr().householderQ() * MatX::Identity(a, Z.cols());  // orthonormal basis
+  }
+  const MatX Kr = Z.transpose() * (0.5 * (Kmm + Kmm.transpose())) * Z;
+  const Eigen::SelfAdjointEigenSolver<MatX> es(Kr);
+  r.minEigenvalue = es.eigenvalues()[0];
+  r.maxEigenvalue = es.eigenvalues()[Kr.rows() - 1];
+  const VecX soft = Z * es.eigenvectors().col(0);
+  Eigen::Index i = 0;
+  soft.cwiseAbs().maxCoeff(&i);
+  r.coordinate = as.model().coordinateLabel(b.mc[i]);
+  return r;
+}
 
 void equilibrateMassless(const Assembler& as, State& s, const VecX& p) {
   const std::vector<int> mc = masslessCoordinates(as, p);

@@ -65,6 +65,20 @@ void equilibrateMassless(const Assembler& as, State& s, const VecX& p);
 /// damping forces, which massless coordinates may not carry.
 void masslessSensitivity(const Assembler& as, const State& x, const VecX& p, int k, State& d);
 
+/// Stability of the massless parts' equilibrium at state s (the other coordinates held): the
+/// extreme eigenvalues of their tangent stiffness K_mm = (-dQ/dq + H(lambda))_mm reduced to the
+/// directions the constraints C touching them leave free, Z^T K_mm Z (Z spans the null space
+/// of Phi_Cm). A smallest eigenvalue at or below zero means that equilibrium is unstable or at
+/// a fold (a massless spring buckling or snapping through): there the quasi-static idealization
+/// has no solution that continues, while the part with its mass would move fast.
+struct MasslessStability {
+  double minEigenvalue = 0.0, maxEigenvalue = 0.0;  ///< [N/m]
+  std::string coordinate;  ///< the coordinate with the largest part in the softest direction
+};
+/// Empty optional-like: maxEigenvalue 0 when the model has no massless coordinates.
+MasslessStability masslessStability(const Assembler& as, const State& s, const VecX& p,
+                                    const std::vector<int>& massless);
+
 /// Augmented matrix [M + c H(lambda)..] helpers shared by the integrators.
 SpMat augmentedMatrix(const Assembler& as, const VecX& q, const VecX& p);
 

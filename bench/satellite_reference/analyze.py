@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Convergence of the massless satellite's IDAS runs (run.sh) and the fixed-step runs beside
+them (fixed.sh): writes results.md and figure12.png in this folder.
+   /usr/bin/python3 bench/satellite_reference/analyze.py [CASE ...]   (default SAT1 SAT2)
+For each case: the IDAS runs at rtol = atol = 1e-6, 1e-8, 1e-10 (those that exist), how far
+each got, and how x_B2 and dx_B2/dL_B1B2 differ between consecutive tolerances, relative to
+the largest |value| of the tightest run over the common time; the agreement time is the last
+frame up to which the 1e-8 and 1e-10 runs agree to 1e-4 of that scale at every frame."""
+import csv, json, os, re, sys
+
+here = os.path.dirname(os.path.abspath(__file__))
+runs = os.path.join(here, 'runs')
+OUT, SENS = 'xB2', 'dxB2/dL_B1B2'
+RTOLS = ['1e-6', '1e-8', '1e-10']
+FIXED = [('bdf1_dt0.02', 'BDF-1, dt 0.02 s (the paper)'), ('trapezoidal_dt1e-3', 'trapezoidal, dt 1e-3 s'),
+         ('ga0.8_dt1e-3', 'generalized-alpha rho_inf 0.8, dt 1e-3 s'), ('ga1_dt1e-3', 'generalized-alpha rho_inf 1, dt 1e-3 s')]
+
+
+def load(case, name):
+    d = os.path.join(runs, f'{case}_{name}')
+    series = os.path.join(d, case, 'series.csv')
+    if not os.path.exists(series):
+        return None
+    rows = list(csv.DictReader(open(series)))
+    summ = json.load(open(os.path.join(d, case, 'summary.json')))
+    cpu = open(os.path.join(d, 'cpu.txt')).read().split()
+    log = open(os.path.join(d, 'run.log')).read().replace('\r', '\n')
+    fail = [l for l in log.splitlines() if 'numerical failure' in l or 'SUSPECT' in l]
+    nums = [c for c in cpu if re.fullmatch(r'[0-9.]+', c)]
+    return {'t': [float(r['t']) for r in rows], 'x': [float(r[OUT]) for r in rows],
+            's': [float(r[SENS]) for r in rows], 'status': summ.get('status', '?'),
+            'steps': summ.get('statistics', {}).get('steps'), 'cpu': float(nums[0]) + float(nums[1]) if len(nums) >= 2 else None,
+            'note': fail[0][:400] if fail else '', 'health': summ.get('health', {})}
+
+
+def compare(a, b, key):
+    """max |a - b| / max |b| over the common frames, and the last time the relative difference
+    stays within 1e-4 at every frame before it."""
+    n = min(len(a['t']), len(b['t']))
+    scale = max(abs(v) for v in b[key][:n]) or 1.0
+    worst, agree = 0.0, None
+    for i in range(n):
+        e = abs(a[key][i] - b[key][i]) / scale
+        worst = max(worst, e)
+        if worst <= 1e-4:
+            agree = a['t'][i]
+    return worst, agree, a['t'][n - 1]
+
+
+cases = sys.argv[1:] or ['SAT1', 'SAT2']
+md = ['# The massless satellite over 10 s: IDAS reference and fixed-step schemes', '',
+      '`bash bench/satellite_reference/run.sh CASE 1e-10 1e-8 1e-6`, `bash bench/satellite_reference/fixed.sh CASE`, '
+      'then `/usr/bin/python3 bench/satellite_reference/analyze.py`. Scene `examples/satellite/satellite_massless.yaml` '
+      '(springs `inertia: none`), frames every 0.1 s. Relative differences are of the largest |value| of the tighter run.', '']
+plots = {}
+for case in cases:
+    idas = {r: load(case, 'r' + r) for r in RTOLS}
+    md += [f'## {case}', '', '| run | status | reached t [s] | steps | CPU [s] | note |', '|---|---|---|---|---|---|']
+    for r in RTOLS:
+        d = idas[r]
+        if d:
+            md.append(f"| IDAS rtol = atol = {r} | {d['status']} | {d['t'][-1]:.2f} | {d['steps']} | {d['cpu']:.0f} | {d['note']} |")
+    fixed = {k: load(case, k) for k, _ in FIXED}
+    for k, label in FIXED:
+        d = fixed[k]
+        if d:
+            md.append(f"| {label} | {d['status']} | {d['t'][-1]:.2f} | {d['steps']} | {d['cpu']:.0f} | {d['note']} |")
+    md += ['', '| pair | common time [s] | max rel. diff x_B2 | agree to 1e-4 until [s] | max rel. diff dx_B2/dL | agree to 1e-4 until [s] |',
+           '|---|---|---|---|---|---|']
+    done = [r for r in RTOLS if idas[r]]
+    for a, b in zip(done, done[1:]):
+        wx, ax, tc = compare(idas[a], idas[b], 'x')
+        ws, as_, _ = compare(idas[a], idas[b], 's')
+        md.append(f'| rtol {a} vs {b} | {tc:.2f} | {wx:.2e} | {ax} | {ws:.2e} | {as_} |')
+    ref = idas[done[-1]] if done else None
+    if ref:
+        for k, label in FIXED:
+            if fixed[k]:
+                wx, ax, tc = compare(fixed[k], ref, 'x')
+                ws, as_, _ = compare(fixed[k], ref, 's')
+                md.append(f'| {label} vs IDAS {done[-1]} | {tc:.2f} | {wx:.2e} | {ax} | {ws:.2e} | {as_} |')
+    md.append('')
+    plots[case] = (idas, fixed)
+
+try:
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(2, len(plots), figsize=(6 * len(plots), 7), squeeze=False)
+    for j, (case, (idas, fixed)) in enumerate(plots.items()):
+        for r, style in zip(RTOLS, [':', '--', '-']):
+            d = idas[r]
+            if d:
+                ax[0][j].plot(d['t'], d['x'], style, color='k', label=f'IDAS rtol {r}')
+                ax[1][j].plot(d['t'], d['s'], style, color='k', label=f'IDAS rtol {r}')
+        for (k, label), c in zip(FIXED, ['tab:red', 'tab:blue', 'tab:green', 'tab:purple']):
+            d = fixed[k]
+            if d:
+                ax[0][j].plot(d['t'], d['x'], color=c, lw=1, label=label)
+                ax[1][j].plot(d['t'], d['s'], color=c, lw=1, label=label)
+        ax[0][j].set_title(f'{case}: x_B2 [m]')
+        ax[1][j].set_title(f'{case}: dx_B2/dL_B1B2 [-]')
+        ax[1][j].set_xlabel('t [s]')
+        ax[1][j].set_ylim(-12, 12)
+        ax[0][j].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(here, 'figure12.png'), dpi=110)
+    md += ['![x_B2 and dx_B2/dL_B1B2 over 10 s](figure12.png)', '']
+except ImportError:
+    md += ['(matplotlib missing: no figure)', '']
+open(os.path.join(here, 'results.md'), 'w').write('\n'.join(md) + '\n')
+print('\n'.join(md))
