@@ -7,6 +7,7 @@
 #include "core/Assembler.hpp"
 #include "elements/RigidBar.hpp"
 #include "integrators/Idas.hpp"
+#include "integrators/InitialState.hpp"
 
 using namespace flexsens;
 using namespace flexsens::test;
@@ -113,27 +114,31 @@ static void checkParameterDerivatives(const Scene& sc) {
   }
 }
 
-static void checkGglSystem(const Scene& sc) {
+/// pinMassless: with the velocity rows of constraints touching massless coordinates pinned
+/// (mu_r = 0, as integrateIdas runs such models).
+static void checkGglSystem(const Scene& sc, bool pinMassless = false) {
   Assembler as(*sc.model);
   const int n = as.n(), m = as.m(), N = 2 * (n + m);
   const VecX p = sc.model->nominalParameters();
   const SpMat M = as.mass(p);
+  const std::vector<int> pinned = pinMassless ? gglPinnedRows(as, p, masslessCoordinates(as, p)) : std::vector<int>();
+  if (pinMassless) EXPECT_FALSE(pinned.empty());
   VecX y = perturbed(VecX::Zero(N), 10, 1.0);
   y.head(n) = perturbed(sc.model->initialPositions(), 11, 0.1);
   const VecX yp = perturbed(VecX::Zero(N), 12, 1.0);
   const double cj = 37.0;
   SparseAccumulator acc;
-  const MatX J = MatX(gglJacobian(as, p, y, cj, acc));
-  const MatX Fy = fdJacobian([&](const VecX& x) { return gglResidual(as, p, M, x, yp); }, y);
-  const MatX Fyp = fdJacobian([&](const VecX& x) { return gglResidual(as, p, M, y, x); }, yp);
+  const MatX J = MatX(gglJacobian(as, p, y, cj, acc, pinned));
+  const MatX Fy = fdJacobian([&](const VecX& x) { return gglResidual(as, p, M, x, yp, pinned); }, y);
+  const MatX Fyp = fdJacobian([&](const VecX& x) { return gglResidual(as, p, M, y, x, pinned); }, yp);
   EXPECT_LT(relErr(J, MatX(Fy + cj * Fyp)), 1e-7);
   // The sensitivity residual is F_y s + F_y' s' + F_p.
   const VecX s = perturbed(VecX::Zero(N), 13, 1.0), sd = perturbed(VecX::Zero(N), 14, 1.0);
   for (int k = 0; k < p.size(); ++k) {
     const VecX Fp = fdJacobian([&](const VecX& x) {
       VecX pp = p; pp[k] = x[0];
-      return gglResidual(as, pp, as.mass(pp), y, yp); }, VecX::Constant(1, p[k]));
-    EXPECT_LT(relErr(gglSensitivityResidual(as, p, M, y, yp, k, s, sd), VecX(Fy * s + Fyp * sd + Fp)), 1e-7)
+      return gglResidual(as, pp, as.mass(pp), y, yp, pinned); }, VecX::Constant(1, p[k]));
+    EXPECT_LT(relErr(gglSensitivityResidual(as, p, M, y, yp, k, s, sd, pinned), VecX(Fy * s + Fyp * sd + Fp)), 1e-7)
         << "parameter " << k;
   }
 }
@@ -176,5 +181,32 @@ TEST(Assembly, ParameterDerivativesMatchFiniteDifferences) {
 TEST(Assembly, GglJacobianAndSensitivityResidualMatchFiniteDifferences) {
   checkGglSystem(mixedScene());
   checkGglSystem(mixedScene3D());
+}
+
+// A massless beam (inertia: none) carrying a mass, with a distance constraint on one of its
+// massless nodes: that row's velocity-level GGL row is pinned (mu_r = 0) in IDAS.
+TEST(Assembly, GglSystemWithMasslessPinnedRowsMatchesFiniteDifferences) {
+  checkGglSystem(readSceneText(R"(
+dimension: 2
+gravity: [0, -9.81]
+nodes:
+  - {name: root, position: [0, 0], ground: true}
+  - {name: n1, position: [0.3, 0.05]}
+  - {name: n2, position: [0.6, 0.1]}
+  - {name: tip, position: [1, 0]}
+  - {name: anchor, position: [1, -1], ground: true}
+  - {name: above, position: [0.6, 1], ground: true}
+elements:
+  - {name: spring, type: beam, nodes: [root, n1, n2, tip], E: 1.0e6, inertia: none,
+     section: {area: 1.0e-4, inertia: 1.0e-9}}
+  - {name: mass, type: rigid_bar, nodes: [tip, anchor], mass: 3.0}
+constraints:
+  - {name: tie, type: distance, nodes: [n2, above]}
+parameters:
+  - {name: A, of: spring, property: area}
+  - {name: m, of: mass, property: mass}
+integrator: {type: idas, t_end: 1.0}
+output: {directory: unused}
+)", "massless_pinned.yaml"), true);
 }
 

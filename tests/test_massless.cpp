@@ -221,3 +221,67 @@ TEST(Massless, ExplicitSchemeRefusesMasslessParts) {
   EXPECT_THROW(integrate(as, p, initialState(as, p), integratorSettings("maggi_rk4", 1e-3, 0.01), rec),
                InputError);
 }
+
+// The stability measure of the run's health (masslessStability): a massless two-segment strut
+// between a ground node and a massed tip, its middle node free. Pushing the tip in by delta
+// compresses both segments by delta / 2 (axial force N = EA delta / (2 l)), which lowers the
+// middle node's transverse stiffness by the geometric term 2 N / l: the strut buckles once
+// that exceeds its bending stiffness. Reference: the stiffness by central differences of the
+// assembled force, and the geometric term in closed form.
+TEST(Massless, StabilityOfACompressedMasslessStrutMatchesFiniteDifferencesAndBuckles) {
+  const Scene sc = readSceneText(R"(
+dimension: 2
+gravity: [0, 0]
+nodes:
+  - {name: root, position: [0, 0], ground: true}
+  - {name: mid, position: [1, 0]}
+  - {name: tip, position: [2, 0]}
+  - {name: anchor, position: [2, -1], ground: true}
+elements:
+  - {name: strut, type: beam, nodes: [root, mid, tip], E: 1.0e6, inertia: none,
+     section: {area: 1.0e-4, inertia: 1.0e-9}}
+  - {name: mass, type: rigid_bar, nodes: [tip, anchor], mass: 3.0}
+integrator: {type: idas, t_end: 1.0}
+output: {directory: unused}
+)", "strut.yaml");
+  Assembler as(*sc.model);
+  const VecX p = sc.model->nominalParameters();
+  const std::vector<int> mc = masslessCoordinates(as, p);
+  ASSERT_EQ(mc.size(), 2u);  // mid's x and y
+  const int tipX = sc.model->nodes[sc.model->nodeIndex("tip")].firstDof;
+  auto stiffnessAt = [&](double delta, Eigen::Vector2d& eigFd, MasslessStability& ms) {
+    State s;
+    s.q = sc.model->initialPositions();
+    s.q[tipX] -= delta;
+    s.q[mc[0]] -= delta / 2;
+    s.v = VecX::Zero(as.n());
+    s.lambda = VecX::Zero(as.m());
+    ms = masslessStability(as, s, p, mc);
+    Eigen::Matrix2d K;
+    const double h = 1e-7;
+    for (int j = 0; j < 2; ++j) {
+      VecX qp = s.q, qm = s.q;
+      qp[mc[j]] += h;
+      qm[mc[j]] -= h;
+      const VecX dQ = (as.force(qp, s.v, p) - as.force(qm, s.v, p)) / (2 * h);
+      for (int i = 0; i < 2; ++i) K(i, j) = -dQ[mc[i]];
+    }
+    eigFd = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (K + K.transpose())).eigenvalues();
+    return K;
+  };
+  Eigen::Vector2d e0, e1;
+  MasslessStability s0, s1;
+  const Eigen::Matrix2d K0 = stiffnessAt(1e-7, e0, s0);
+  const Eigen::Matrix2d K1 = stiffnessAt(1e-3, e1, s1);
+  std::printf("  strut: transverse stiffness %.6g N/m (delta 1e-7 m), %.6g N/m (delta 1e-3 m); measure %.6g, %.6g\n",
+              K0(1, 1), K1(1, 1), s0.minEigenvalue, s1.minEigenvalue);
+  EXPECT_NEAR(s0.minEigenvalue, e0[0], 1e-6);  // [N/m], of ~4e-3 (bending) and 200 (axial)
+  EXPECT_NEAR(s0.maxEigenvalue, e0[1], 1e-6 * e0[1]);
+  EXPECT_NEAR(s1.minEigenvalue, e1[0], 1e-6);
+  EXPECT_GT(s0.minEigenvalue, 0.0);  // nearly straight and unloaded: stable
+  EXPECT_LT(s1.minEigenvalue, 0.0);  // compressed beyond the critical load: buckles
+  EXPECT_EQ(s1.coordinate, sc.model->coordinateLabel(mc[1]));  // softest sideways (y)
+  // The transverse stiffness dropped by the geometric term 2 N / l, N = EA (delta / 2) / l:
+  // 100 N * 5e-4 * 2 / 1 m = 0.1 N/m (the bending part changes by O(delta) relative).
+  EXPECT_NEAR(K0(1, 1) - K1(1, 1), 0.1, 0.002);
+}

@@ -10,6 +10,8 @@
 //      ones over 2 ms against central differences of whole runs.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cmath>
 #include <cstdio>
 
@@ -256,5 +258,31 @@ TEST(PimMassless, SatelliteIdasSensitivitiesMatchCentralDifferencesOverTwoMillis
     std::printf("  SAT2 massless, IDAS rtol 1e-8, t = %.0e s (%ld steps in all): max relative |dd - nd| = %.2e\n", t,
                 st.steps, e);
     EXPECT_LT(e, 1e-4) << "t = " << t;
+  }
+}
+
+// IDAS on the massless satellite at the settings where it used to fail for good (issue #14's
+// reference study): rtol 1e-6 with frames every 0.02 s (corrector failure at t = 0.0057 s while
+// the velocity rows of the springs' constraints were GGL rows: now pinned, gglPinnedRows) and
+// rtol = atol = 1e-10 (failure in the first step while the massless velocities had atol
+// 1e-10). Each run must reach its end with the constraints held and finite sensitivities.
+TEST(PimMassless, SatelliteIdasRunsWhereItFailedBefore) {
+  auto r = satellite("SAT1");
+  for (const auto& [rtol, atol, tEnd, frame] : std::vector<std::array<double, 4>>{{1e-6, 1e-8, 0.02, 0.02},
+                                                                                {1e-10, 1e-10, 1e-3, 5e-4}}) {
+    IntegratorSettings set = r->sc.integrator;
+    set.type = "idas";
+    set.rtol = rtol;
+    set.atol = atol;
+    set.dt = 0.02;
+    set.tEnd = tEnd;
+    set.frameInterval = frame;
+    Recorder rec;
+    const auto st = integrate(*r->as, r->p, r->s, set, rec);
+    std::printf("  SAT1 massless, IDAS rtol %.0e: %ld steps to t = %.3g s, max |Phi| %.1e\n", rtol, st.steps, tEnd,
+                st.maxConstraintViolation);
+    ASSERT_NEAR(rec.frames.back().x.t, tEnd, 1e-12);
+    EXPECT_LT(st.maxConstraintViolation, 1e-8);
+    EXPECT_TRUE(rec.frames.back().dp[0].q.allFinite());
   }
 }
