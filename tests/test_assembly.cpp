@@ -121,7 +121,7 @@ static void checkGglSystem(const Scene& sc, bool pinMassless = false) {
   const int n = as.n(), m = as.m(), N = 2 * (n + m);
   const VecX p = sc.model->nominalParameters();
   const SpMat M = as.mass(p);
-  const std::vector<int> pinned = pinMassless ? gglPinnedRows(as, p, masslessCoordinates(as, p)) : std::vector<int>();
+  const std::vector<int> pinned = pinMassless ? gglPinnedRows(as, masslessCoordinates(as, p)) : std::vector<int>();
   if (pinMassless) EXPECT_FALSE(pinned.empty());
   VecX y = perturbed(VecX::Zero(N), 10, 1.0);
   y.head(n) = perturbed(sc.model->initialPositions(), 11, 0.1);

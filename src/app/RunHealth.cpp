@@ -19,8 +19,7 @@ RunHealth::RunHealth(const Assembler& as, const VecX& p, Observer& next) : Forwa
     size_ = std::max((hi - lo).norm(), 1e-3);
   }
   condChecked_ = m.m > 0 && static_cast<double>(m.m) * m.m * m.n <= kConditioningWork;
-  massless_ = masslessCoordinates(as, p);
-  if (static_cast<int>(massless_.size()) > kMasslessCheckMax) massless_.clear();
+  if (m.n <= kMasslessCheckMax) massless_ = masslessCoordinates(as, p);
 }
 
 void RunHealth::frame(const StateWithSens& s) {

@@ -28,7 +28,7 @@ inline constexpr double kSensitivityBlowUp = 1e3;    ///< relative sensitivity |
 inline constexpr double kConditioningWork = 1e8;     ///< m^2 n per frame above which it is skipped
 inline constexpr double kNearSingular = 0.05;        ///< sigma_min / sigma_max of Phi_q [-]
 inline constexpr double kMasslessUnstable = 1e-9;    ///< -lambda_min / lambda_max of the massless stiffness [-]
-inline constexpr int kMasslessCheckMax = 3000;       ///< massless coordinates above which it is skipped
+inline constexpr int kMasslessCheckMax = 3000;       ///< n above which it is skipped (dense n x n K per frame)
 
 class RunHealth : public ForwardingObserver {
  public:
@@ -53,7 +53,7 @@ class RunHealth : public ForwardingObserver {
   int sensParam_ = -1;
   double cond_ = 1.0, tCond_ = 0.0;
   bool condChecked_ = false;
-  std::vector<int> massless_;  ///< massless coordinates (checked when 0 < size <= kMasslessCheckMax)
+  std::vector<int> massless_;  ///< massless coordinates (checked when any and n <= kMasslessCheckMax)
   double masslessRatio_ = 1.0, tMassless_ = 0.0;  ///< smallest lambda_min / lambda_max, its time
   double masslessRatio0_ = 0.0;                   ///< the same at the first frame
   std::string masslessCoordinate_;

@@ -20,9 +20,8 @@
 namespace flexsens {
 
 // ------------------------------------------------------------------ the GGL system
-std::vector<int> gglPinnedRows(const Assembler& as, const VecX& p, const std::vector<int>& massless) {
+std::vector<int> gglPinnedRows(const Assembler& as, const std::vector<int>& massless) {
   if (massless.empty() || as.m() == 0) return {};
-  const VecX q0 = as.model().initialPositions();
   std::vector<char> isMassless(as.n(), 0);
   for (int i : massless) isMassless[i] = 1;
   std::vector<int> rows;
@@ -32,7 +31,6 @@ std::vector<int> gglPinnedRows(const Assembler& as, const VecX& p, const std::ve
     if (!touches) continue;
     for (int r = 0; r < as.constraints()[c]->rows(); ++r) rows.push_back(as.constraintRow(c) + r);
   }
-  (void)p;
   std::sort(rows.begin(), rows.end());
   return rows;
 }
@@ -294,7 +292,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     throw InputError("integrator idas: every coordinate is massless (inertia: none), the model is "
                      "static; use bdf1 or trapezoidal (each step an equilibrium) or the static solver");
   for (int i : massless) view(id.get())[i] = view(id.get())[n + i] = 0.0;
-  pb.pinned = gglPinnedRows(as, p, massless);
+  pb.pinned = gglPinnedRows(as, massless);
 
   std::unique_ptr<void, IdaDeleter> mem(IDACreate(ctx.get()));
   if (!mem) throw NumericalError("IDAS: IDACreate failed");
@@ -434,9 +432,8 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     // that reaches it to whatever was left, down to 1e-7 of the step before; at such a step the
     // iteration matrix of the index-2 GGL form with massless parts is singular to round-off
     // and the corrector failed for good (massless satellite, rtol 1e-8: t = 0.0199998 s, frame
-    // at 0.02 s). Landing where the cut is mild keeps the step sequence of the plain stop time
-    // elsewhere (the rigid five-bar at rtol 1e-10 needs it: stepping freely past every frame,
-    // its corrector stalls at h ~ 3e-8 s near t = 0.549 s).
+    // at 0.02 s). Landing where the cut is mild keeps the plain stop time's step sequence
+    // elsewhere, so the other models' IDAS runs take the steps they took before.
     // One step per call, so that a signal is seen after the step it arrived in. IDAS' own
     // step limit (IDASetMaxNumSteps) counts per call, so one step per call needs our own.
     for (long stepsThisFrame = 0; t < tout; ++stepsThisFrame) {

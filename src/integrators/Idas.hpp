@@ -16,7 +16,7 @@ namespace flexsens {
 /// massless coordinates' equilibrium (index 1), so they need no velocity stabilization; with it,
 /// v_m = q_m' + (Phi_q^T mu)_m made v_m and mu index-2 variables through the derivative of an
 /// algebraic q_m, and IDAS' corrector failed at random times on the massless satellite.
-std::vector<int> gglPinnedRows(const Assembler& as, const VecX& p, const std::vector<int>& massless);
+std::vector<int> gglPinnedRows(const Assembler& as, const std::vector<int>& massless);
 /// GGL residual F(y, y') with y = (q, v, lambda, mu); M is the constant mass matrix; rows
 /// `pinned` of the velocity constraints read mu_r = 0 instead.
 VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y, const VecX& yp,
