@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <functional>
 #include <string>
+#include <vector>
 
+#include "app/FiniteDifferences.hpp"
 #include "app/Run.hpp"
 #include "elements/Beam.hpp"
 #include "integrators/State.hpp"
@@ -299,4 +302,24 @@ integrator: {type: trapezoidal, t_end: 1, dt: 0.001}
 )", "mixed3d.yaml");
 }
 
+/// The discrete sensitivities of a run against central differences of whole perturbed runs
+/// (relative step relStep, parameter 0): at each time, max_i |dd - nd| / max(|nd|, 1e-12) over
+/// all coordinates must stay below bound. Returns the dd run's statistics.
+inline IntegratorStats expectDdMatchesCentralDifferences(const Assembler& as, const VecX& p,
+                                                          const StateWithSens& start, const PimCase* pim,
+                                                          const IntegratorSettings& set, double relStep,
+                                                          const std::vector<double>& times, double bound,
+                                                          const std::string& label) {
+  Recorder dd, nd;
+  const IntegratorStats st = integrate(as, p, start, set, dd);
+  integrateFiniteDifferences(as, p, start, pim, set, {"central", relStep}, nd);
+  for (double t : times) {
+    const double e = relErr(dd.at(t).dp[0].q, nd.at(t).dp[0].q, 1e-12);
+    std::printf("  %s, t = %.2g s (%ld steps in all): max relative |dd - nd| = %.2e\n", label.c_str(), t, st.steps, e);
+    EXPECT_LT(e, bound) << label << " t = " << t;
+  }
+  return st;
+}
+
 }  // namespace flexsens::test
+

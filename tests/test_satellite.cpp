@@ -166,15 +166,9 @@ TEST(Satellite, GeneralizedAlphaSensitivitiesMatchCentralDifferences) {
   set.rhoInf = 0.5;
   set.dt = 1e-3;
   set.frameInterval = 0.25;
-  Recorder dd, nd;
-  const auto st = integrate(*s->as, s->p, s->start, set, dd);
+  const auto st = expectDdMatchesCentralDifferences(*s->as, s->p, s->start, s->sc.pimCase.get(), set, 1e-5,
+                                                    {0.25, 0.5}, 1e-6, "SAT2 generalized-alpha");
   EXPECT_LT(st.maxConstraintViolation, 1e-10);
-  integrateFiniteDifferences(*s->as, s->p, s->start, s->sc.pimCase.get(), set, {"central", 1e-5}, nd);
-  for (double t : {0.25, 0.5}) {
-    const double e = relErr(dd.at(t).dp[0].q, nd.at(t).dp[0].q, 1e-12);
-    std::printf("  SAT2 generalized-alpha t = %.2f s: max relative |dd - nd| = %.2e\n", t, e);
-    EXPECT_LT(e, 1e-6) << "t = " << t;
-  }
 }
 
 TEST(Satellite, IdasSensitivitiesMatchCentralDifferencesOverTheFirstMillisecond) {
@@ -190,13 +184,6 @@ TEST(Satellite, IdasSensitivitiesMatchCentralDifferencesOverTheFirstMillisecond)
   set.dt = 0.0;
   set.tEnd = 1e-3;
   set.frameInterval = 5e-4;
-  Recorder dd, nd;
-  const auto st = integrate(*s->as, s->p, s->start, set, dd);
-  integrateFiniteDifferences(*s->as, s->p, s->start, s->sc.pimCase.get(), set, {"central", 1e-4}, nd);
-  for (double t : {5e-4, 1e-3}) {
-    const double e = relErr(dd.at(t).dp[0].q, nd.at(t).dp[0].q, 1e-12);
-    std::printf("  SAT2 IDAS rtol 1e-8, t = %.1e s (%ld steps in all): max relative |dd - nd| = %.2e\n", t,
-                st.steps, e);
-    EXPECT_LT(e, 1e-4) << "t = " << t;
-  }
+  expectDdMatchesCentralDifferences(*s->as, s->p, s->start, s->sc.pimCase.get(), set, 1e-4, {5e-4, 1e-3}, 1e-4,
+                                    "SAT2 IDAS rtol 1e-8");
 }
