@@ -258,11 +258,14 @@ TEST(PimMassless, SatelliteIdasSensitivitiesMatchCentralDifferencesOverTwoMillis
 // reference study): rtol 1e-6 with frames every 0.02 s (corrector failure at t = 0.0057 s while
 // the velocity rows of the springs' constraints were GGL rows: now pinned, gglPinnedRows) and
 // rtol = atol = 1e-10 (failure in the first step while the massless velocities had atol
-// 1e-10). Each run must reach its end with the constraints held and finite sensitivities.
+// 1e-10), and rtol = atol = 1e-6 over 0.15 s (failure at t = 0.1377 s while the undamped
+// massless velocities v_m = q_m' were in the corrector's convergence test, where their
+// corrections grow as 1/h). Each run must reach its end with the constraints held and finite
+// sensitivities.
 TEST(PimMassless, SatelliteIdasRunsWhereItFailedBefore) {
   auto r = satellite("SAT1");
-  for (const auto& [rtol, atol, tEnd, frame] : std::vector<std::array<double, 4>>{{1e-6, 1e-8, 0.02, 0.02},
-                                                                                {1e-10, 1e-10, 1e-3, 5e-4}}) {
+  for (const auto& [rtol, atol, tEnd, frame] : std::vector<std::array<double, 4>>{
+           {1e-6, 1e-8, 0.02, 0.02}, {1e-10, 1e-10, 1e-3, 5e-4}, {1e-6, 1e-6, 0.15, 0.05}}) {
     IntegratorSettings set = r->sc.integrator;
     set.type = "idas";
     set.rtol = rtol;
@@ -275,7 +278,8 @@ TEST(PimMassless, SatelliteIdasRunsWhereItFailedBefore) {
     std::printf("  SAT1 massless, IDAS rtol %.0e: %ld steps to t = %.3g s, max |Phi| %.1e\n", rtol, st.steps, tEnd,
                 st.maxConstraintViolation);
     ASSERT_NEAR(rec.frames.back().x.t, tEnd, 1e-12);
-    EXPECT_LT(st.maxConstraintViolation, 1e-8);
+    // held to the positions' tolerance (a drift would be orders of magnitude above it)
+    EXPECT_LT(st.maxConstraintViolation, 5.0 * atol);
     EXPECT_TRUE(rec.frames.back().dp[0].q.allFinite());
   }
 }
