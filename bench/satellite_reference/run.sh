@@ -6,6 +6,8 @@
 # Each run writes bench/satellite_reference/runs/CASE_rRTOL/ (series.csv, summary.json) and
 # its CPU time to .../cpu.txt; runs of one call go one after another (start two calls to use
 # two cores). analyze.py compares them. FLEXSENS: the binary (default build/flexsens).
+# SENS_ERROR_CONTROL=false: sensitivities out of IDAS' error test (integrator key
+# sensitivity_error_control), written to runs/CASE_rRTOL_noserr/.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -14,9 +16,12 @@ case_name="$1"; shift
 mkdir -p "$here/runs"
 for rtol in "$@"; do
   out="$here/runs/${case_name}_r${rtol}"
+  errcon="${SENS_ERROR_CONTROL:-true}"
+  [ "$errcon" = true ] || out="${out}_noserr"
   scene="$(mktemp --suffix=.yaml)"
   # rtol = atol (positions in m, velocities in m/s, sensitivities scaled by IDAS from these)
   sed -e "s/^  rtol: .*/  rtol: $rtol/" -e "s/^  atol: .*/  atol: $rtol/" \
+      -e "s/^integrator:.*/&\n  sensitivity_error_control: $errcon/" \
       -e "s#gmsh: ../../meshes#gmsh: $root/meshes#" \
       "$root/examples/satellite/satellite_massless.yaml" > "$scene"
   rm -rf "$out"
@@ -24,5 +29,6 @@ for rtol in "$@"; do
     "$bin" run "$scene" --integrator idas --case "$case_name" --t-end 10 --out "$out" \
     > "$out.log" 2>&1 || echo "run $case_name rtol $rtol failed: see $out.log"
   mkdir -p "$out"; mv "$out.time" "$out/cpu.txt"; mv "$out.log" "$out/run.log"
+  git -C "$root" rev-parse --short HEAD > "$out/commit.txt"  # the checkout (build it first)
   rm -f "$out"/*/frame_*.vtu "$scene"   # keep the series and the summary (frames: 50 MB)
 done

@@ -460,8 +460,14 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
     // that reaches it to whatever was left, down to 1e-7 of the step before; at such a step the
     // iteration matrix of the index-2 GGL form with massless parts is singular to round-off
     // and the corrector failed for good (massless satellite, rtol 1e-8: t = 0.0199998 s, frame
-    // at 0.02 s). Landing where the cut is mild keeps the plain stop time's step sequence
-    // elsewhere, so the other models' IDAS runs take the steps they took before.
+    // at 0.02 s). A stop time is set only for a step that will reach it: while one is set,
+    // IDAS shortens its next step to whatever is left after each step, so a step that ended a
+    // hair short of a frame set far ahead (5e-12 s: the seed-000 four-bar at 0.12 s with its
+    // 1e-3 s step limit) made the next step 5e-12 s, where the iteration matrix is singular,
+    // and the run failed. Where one step would overshoot by little (h < left < 2 h), a stop
+    // half-way splits what is left into two steps of at least h/2, so that frames stay step
+    // ends: an interpolated frame carries the polynomial's error in the algebraic variables
+    // (massless coordinates, multipliers), which are out of the error test.
     // One step per call, so that a signal is seen after the step it arrived in. IDAS' own
     // step limit (IDASetMaxNumSteps) counts per call, so one step per call needs our own.
     for (long stepsThisFrame = 0; t < tout; ++stepsThisFrame) {
@@ -472,7 +478,11 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       }
       double hNext = 0.0;
       check(IDAGetCurrentStep(ida, &hNext), "IDAGetCurrentStep", pb, t);
-      const double stop = (tout - t >= 0.5 * hNext) ? tout : farStop;
+      const double left = tout - t;
+      const double stop = (left < 0.5 * hNext || left >= 2.0 * hNext) ? farStop  // step past / not yet
+                          : (left <= hNext) ? tout                                // land
+                                            : t + 0.5 * left;  // two steps of left/2 >= hNext/2
+
       if (stop != stopSet) {
         check(IDASetStopTime(ida, stop), "IDASetStopTime", pb, t);
         stopSet = stop;
