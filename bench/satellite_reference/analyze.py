@@ -65,7 +65,8 @@ md = ['# The massless satellite over 10 s: IDAS reference and fixed-step schemes
       '(springs `inertia: none`), frames every 0.1 s. Relative differences are of the largest |value| of the tighter run. '
       'A run marked failed stopped at the time given (its frames up to there are kept); pairs are compared over their common '
       'frames. "code" is the commit the run\'s binary was built from: before d1dc9c9 the multipliers and the massless '
-      'velocities were in IDAS\' corrector convergence test, where every IDAS run of this model stopped (README, IDAS).', '']
+      'velocities were in IDAS\' corrector convergence test, where every IDAS run of this model stopped (README, IDAS); "5471266-pre" is 5471266 without its split of a step that would overshoot a frame by little (more frames interpolated). '
+      'Runs marked interrupted were stopped by hand (SIGINT) at the end of the session that ran them; their frames up to there are kept.', '']
 plots = {}
 for case in cases:
     idas = {r: load(case, 'r' + r) for r in RTOLS + [NOSERR]}
