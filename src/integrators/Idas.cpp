@@ -325,7 +325,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   // (the velocity rows of its constraints are pinned), so it leaves the convergence test
   // (a tolerance no correction reaches; it is out of the error test already, IDASetId 0). A
   // damped v_m is part of the equilibrium and keeps max(atol, sqrt(rtol)). q_m keeps rtol/atol.
-  {
+  if (!massless.empty()) {
     // dQ/dv at the start and at velocities 1 m/s larger (a damper nonlinear in v may have
     // dQ/dv = 0 at rest)
     std::vector<char> damped(n, 0);
