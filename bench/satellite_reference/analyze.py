@@ -5,7 +5,11 @@ them (fixed.sh): writes results.md and figure12.png in this folder.
 For each case: the IDAS runs at rtol = atol = 1e-6, 1e-8, 1e-10 (those that exist), how far
 each got, and how x_B2 and dx_B2/dL_B1B2 differ between consecutive tolerances, relative to
 the largest |value| of the tightest run over the common time; the agreement time is the last
-frame up to which the 1e-8 and 1e-10 runs agree to 1e-4 of that scale at every frame."""
+frame up to which the 1e-8 and 1e-10 runs agree to 1e-4 of that scale at every frame. The runs
+named *_staggered are the earlier ones with IDAS' staggered sensitivity corrector (kept as
+history: they stopped). The growth section measures how fast perturbations grow along the
+motion: the spread of the four opening angles in the symmetric case (SAT1) and |dx_B2/dL|."""
+import math
 import csv, json, os, re, sys
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -13,7 +17,10 @@ runs = os.path.join(here, 'runs')
 OUT, SENS = 'xB2', 'dxB2/dL_B1B2'
 RTOLS = ['1e-6', '1e-8', '1e-10']
 # run.sh with SENS_ERROR_CONTROL=false: the sensitivities out of IDAS' error test
-NOSERR = '1e-8_noserr' 
+NOSERR = '1e-8_noserr'
+# the earlier runs with the staggered sensitivity corrector (run.sh before the scene asked for
+# the simultaneous one), renamed runs/CASE_rRTOL_staggered
+STAGGERED = ['1e-6_staggered', '1e-8_staggered', '1e-10_staggered', '1e-8_noserr_staggered']
 FIXED = [('bdf1_dt0.02', 'BDF-1, dt 0.02 s (the paper)'), ('trapezoidal_dt1e-3', 'trapezoidal, dt 1e-3 s'),
          ('ga0.8_dt1e-3', 'generalized-alpha rho_inf 0.8, dt 1e-3 s'), ('ga1_dt1e-3', 'generalized-alpha rho_inf 1, dt 1e-3 s')]
 
@@ -30,6 +37,8 @@ def load(case, name):
     fail = [l for l in log.splitlines() if 'numerical failure' in l or 'SUSPECT' in l]
     nums = [c for c in cpu if re.fullmatch(r'[0-9.]+', c)]
     return {'t': [float(r['t']) for r in rows], 'x': [float(r[OUT]) for r in rows],
+            'spread': [max(float(r[f'open{k}']) for k in range(1, 5)) - min(float(r[f'open{k}']) for k in range(1, 5))
+                       for r in rows],
             's': [float(r[SENS]) for r in rows], 'status': summ.get('status', '?'),
             'steps': summ.get('statistics', {}).get('steps'), 'cpu': float(nums[0]) + float(nums[1]) if len(nums) >= 2 else None,
             'note': fail[0][:400] if fail else '', 'health': summ.get('health', {}),
@@ -58,24 +67,48 @@ def row(label, a, b):
     return f'| {label} | {tc:.2f} | {wx:.2e} | {ax} / {ax2} | {ws:.2e} | {as_} / {as2} |'
 
 
+def growth(d, t0, t1, key):
+    """Least-squares slope of ln(running max |value|) over [t0, t1]: the rate [1/s] at which
+    the quantity grows (a perturbation's exponential growth shows as a straight line)."""
+    pts, top = [], 0.0
+    for t, v in zip(d['t'], d[key]):
+        top = max(top, abs(v))
+        if t0 <= t <= t1 and top > 0:
+            pts.append((t, math.log(top)))
+    if len(pts) < 3:
+        return None
+    mt = sum(p[0] for p in pts) / len(pts)
+    ml = sum(p[1] for p in pts) / len(pts)
+    return sum((p[0] - mt) * (p[1] - ml) for p in pts) / sum((p[0] - mt) ** 2 for p in pts)
+
+
+def label_of(r):
+    return ('rtol ' + r.replace('_noserr', ', sensitivities out of the error test')
+            .replace('_staggered', ', staggered corrector'))
+
+
 cases = sys.argv[1:] or ['SAT1', 'SAT2']
 md = ['# The massless satellite over 10 s: IDAS reference and fixed-step schemes', '',
       '`bash bench/satellite_reference/run.sh CASE 1e-10 1e-8 1e-6`, `bash bench/satellite_reference/fixed.sh CASE`, '
       'then `/usr/bin/python3 bench/satellite_reference/analyze.py`. Scene `examples/satellite/satellite_massless.yaml` '
-      '(springs `inertia: none`), frames every 0.1 s. Relative differences are of the largest |value| of the tighter run. '
-      'A run marked failed stopped at the time given (its frames up to there are kept); pairs are compared over their common '
-      'frames. "code" is the commit the run\'s binary was built from: before d1dc9c9 the multipliers and the massless '
-      'velocities were in IDAS\' corrector convergence test, where every IDAS run of this model stopped (README, IDAS); "5471266-pre" is 5471266 without its split of a step that would overshoot a frame by little (more frames interpolated). '
+      '(springs `inertia: none`, IDAS with `sensitivity_corrector: simultaneous`), frames every 0.1 s. Relative '
+      'differences are of the largest |value| of the tighter run. '
+      'A run marked failed stopped at the time given (its frames up to there are kept); one marked suspect reached its end '
+      'but flagged its result (here: the sensitivity blow-up check); pairs are compared over their common '
+      'frames. "code" is the commit the run\'s binary was built from. The runs "staggered corrector" are the earlier ones '
+      'with IDAS\' staggered sensitivity corrector, which stopped: before d1dc9c9 the multipliers and the massless '
+      'velocities were in IDAS\' corrector convergence test, where every IDAS run of this model stopped (README, IDAS); '
+      '"5471266-pre" is 5471266 without its split of a step that would overshoot a frame by little. '
       'Runs marked interrupted were stopped by hand (SIGINT) at the end of the session that ran them; their frames up to there are kept.', '']
 plots = {}
+summary = []
 for case in cases:
-    idas = {r: load(case, 'r' + r) for r in RTOLS + [NOSERR]}
+    idas = {r: load(case, 'r' + r) for r in RTOLS + STAGGERED}
     md += [f'## {case}', '', '| run | code | status | reached t [s] | steps | CPU [s] | note |', '|---|---|---|---|---|---|---|']
-    for r in RTOLS + [NOSERR]:
+    for r in RTOLS + STAGGERED:
         d = idas[r]
         if d:
-            label = r.replace('_noserr', ', sensitivities out of the error test')
-            md.append(f"| IDAS rtol = atol = {label} | {d['commit']} | {d['status']} | {d['t'][-1]:.2f} | {d['steps']} | {d['cpu']:.0f} | {d['note']} |")
+            md.append(f"| IDAS {label_of(r)} | {d['commit']} | {d['status']} | {d['t'][-1]:.2f} | {d['steps']} | {d['cpu']:.0f} | {d['note']} |")
     fixed = {k: load(case, k) for k, _ in FIXED}
     for k, label in FIXED:
         d = fixed[k]
@@ -86,42 +119,77 @@ for case in cases:
     done = [r for r in RTOLS if idas[r]]
     for a, b in zip(done, done[1:]):
         md.append(row(f'rtol {a} vs {b}', idas[a], idas[b]))
-    if idas[NOSERR]:
-        for b in done[::-1]:
-            md.append(row(f'rtol 1e-8 (sensitivities out of the error test) vs {b}', idas[NOSERR], idas[b]))
-        done = done + [NOSERR]
-    # the fixed-step schemes against the tightest IDAS run that reached the end (else the farthest)
-    full = [r for r in done if idas[r]['status'] == 'complete']
+    for r in STAGGERED:  # the staggered runs against the simultaneous ones (tightest first)
+        if idas[r]:
+            for b in done[::-1]:
+                md.append(row(f'{label_of(r)} vs rtol {b}', idas[r], idas[b]))
+                break
+    # the fixed-step schemes against the tightest simultaneous IDAS run that reached the end
+    # (else the farthest)
+    full = [r for r in done if idas[r]['status'] in ('complete', 'suspect') and idas[r]['t'][-1] >= 10 - 1e-9]
     best = full[-1] if full else (max(done, key=lambda r: idas[r]['t'][-1]) if done else None)
     if best:
         for k, label in FIXED:
             if fixed[k]:
-                md.append(row(f'{label} vs IDAS {best.replace("_noserr", " (sensitivities out of the error test)")}', fixed[k], idas[best]))
+                md.append(row(f'{label} vs IDAS rtol {best}', fixed[k], idas[best]))
     md.append('')
-    plots[case] = (idas, fixed)
+    # the reference's reach: 1e-8 against 1e-10
+    if idas['1e-8'] and idas['1e-10']:
+        _, ax, tc = compare(idas['1e-8'], idas['1e-10'], 'x')
+        _, as_, _ = compare(idas['1e-8'], idas['1e-10'], 's')
+        summary.append(f'- {case}: rtol 1e-8 and 1e-10 agree to 1e-4 of the largest value on x_B2 up to t = {ax} s '
+                       f'and on dx_B2/dL_B1B2 up to t = {as_} s (common time {tc:.1f} s).')
+    # how fast perturbations grow: the rate of the envelope of |dx_B2/dL| and, in the symmetric
+    # case, of the spread of the four panels' opening angles (round-off breaks the symmetry)
+    ref = idas[best] if best else None
+    if ref:
+        t1 = ref['t'][-1]
+        gs = growth(ref, 1.5, min(t1, 5.0), 's')
+        gp = growth(ref, 1.5, min(t1, 5.0), 'spread')
+        if gs:
+            summary.append(f'- {case}, IDAS rtol {best}: |dx_B2/dL_B1B2| grows as exp({gs:.2f} t/s) over 1.5 .. '
+                           f'{min(t1, 5.0):.1f} s (e-folding time {1 / gs:.2f} s); at t = {t1:.1f} s it is {ref["s"][-1]:.3g}.')
+        if case == 'SAT1' and gp:
+            summary.append(f'- SAT1 is symmetric (four equal panels); the spread of the four opening angles grows as '
+                           f'exp({gp:.2f} t/s) over 1.5 .. {min(t1, 5.0):.1f} s, to {max(ref["spread"]):.2e} rad.')
+    plots[case] = (idas, fixed, best)
+md += ['## Reach of the reference and growth of perturbations', ''] + summary + ['']
 
 try:
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(2, len(plots), figsize=(6 * len(plots), 7), squeeze=False)
-    for j, (case, (idas, fixed)) in enumerate(plots.items()):
-        for r, style, c in zip(RTOLS + [NOSERR], [':', '--', '-', '-'], ['k', 'k', 'k', 'tab:orange']):
+    fig, ax = plt.subplots(3, len(plots), figsize=(6 * len(plots), 10), squeeze=False)
+    for j, (case, (idas, fixed, best)) in enumerate(plots.items()):
+        agree = None
+        if idas['1e-8'] and idas['1e-10']:
+            agree = compare(idas['1e-8'], idas['1e-10'], 's')[1]
+        for r, style in zip(RTOLS, [':', '--', '-']):
             d = idas[r]
             if d:
-                lab = 'IDAS rtol ' + r.replace('_noserr', ', sens. out of error test')
-                ax[0][j].plot(d['t'], d['x'], style, color=c, label=lab)
-                ax[1][j].plot(d['t'], d['s'], style, color=c, label=lab)
+                lab = 'IDAS rtol ' + r
+                ax[0][j].plot(d['t'], d['x'], style, color='k', label=lab)
+                ax[1][j].plot(d['t'], d['s'], style, color='k', label=lab)
+                ax[2][j].semilogy(d['t'], [abs(v) + 1e-300 for v in d['s']], style, color='k', label=lab + ': |dx_B2/dL|')
+                if case == 'SAT1':
+                    ax[2][j].semilogy(d['t'], [v + 1e-300 for v in d['spread']], style, color='tab:orange',
+                                      label=lab + ': spread of the 4 opening angles [rad]')
         for (k, label), c in zip(FIXED, ['tab:red', 'tab:blue', 'tab:green', 'tab:purple']):
             d = fixed[k]
             if d:
                 ax[0][j].plot(d['t'], d['x'], color=c, lw=1, label=label)
                 ax[1][j].plot(d['t'], d['s'], color=c, lw=1, label=label)
+        if agree is not None:
+            for a in ax[:, j]:
+                a.axvline(agree, color='grey', lw=0.8)
+            ax[1][j].text(agree, 10.5, f' rtol 1e-8 = 1e-10 to 1e-4 up to {agree:.1f} s', fontsize=7, color='grey')
         ax[0][j].set_title(f'{case}: x_B2 [m]')
-        ax[1][j].set_title(f'{case}: dx_B2/dL_B1B2 [-]')
-        ax[1][j].set_xlabel('t [s]')
+        ax[1][j].set_title(f'{case}: dx_B2/dL_B1B2 [-] (clipped to +-12)')
+        ax[2][j].set_title(f'{case}: growth (log scale)')
+        ax[2][j].set_xlabel('t [s]')
         ax[1][j].set_ylim(-12, 12)
         ax[0][j].legend(fontsize=7)
+        ax[2][j].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(here, 'figure12.png'), dpi=110)
     md += ['![x_B2 and dx_B2/dL_B1B2 over 10 s](figure12.png)', '']

@@ -23,6 +23,10 @@ struct IntegratorSettings {
   std::string newton = "full";
   double frameInterval = 0.01; ///< time between output frames [s]
   bool sensitivityErrorControl = true;  ///< IDAS: sensitivities in the error test
+  /// IDAS: how the sensitivities are corrected. "staggered": after the state's corrector has
+  /// converged, with its iteration matrix; "simultaneous": state and sensitivities in one
+  /// Newton iteration and one convergence test (see README, IDAS).
+  std::string sensitivityCorrector = "staggered";
   /// Energy audit (app/EnergyAudit.hpp): a gain of the energy balance E - E0 - W above this
   /// fraction of the run's energy scale marks the run suspect; 0 switches that side off ...
   double energyTolerance = 0.05;
@@ -34,6 +38,8 @@ struct IntegratorSettings {
   /// run whole perturbed simulations and live in the app layer.
   std::string sensitivityMethod = "dd";
 };
+
+inline bool isSensitivityCorrector(const std::string& c) { return c == "staggered" || c == "simultaneous"; }
 
 inline bool isNewtonMode(const std::string& m) { return m == "full" || m == "modified"; }
 

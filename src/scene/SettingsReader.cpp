@@ -19,7 +19,7 @@ void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSe
 
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
-                                 "max_newton_iterations", "frame_interval", "sensitivity_error_control",
+                                 "max_newton_iterations", "frame_interval", "sensitivity_error_control", "sensitivity_corrector",
                                  "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
@@ -52,6 +52,12 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
     s.energyLossTolerance = r.nonNegative(in["energy_loss_tolerance"], "integrator.energy_loss_tolerance");
   if (in["sensitivity_error_control"])
     s.sensitivityErrorControl = r.boolean(in["sensitivity_error_control"], "integrator.sensitivity_error_control");
+  if (in["sensitivity_corrector"]) {
+    s.sensitivityCorrector = r.text(in["sensitivity_corrector"], "integrator.sensitivity_corrector");
+    if (!isSensitivityCorrector(s.sensitivityCorrector))
+      r.fail(in["sensitivity_corrector"], "integrator.sensitivity_corrector",
+             "expected staggered or simultaneous, got '" + s.sensitivityCorrector + "'");
+  }
   if (const auto pr = checkTimes(s))  // t_end, dt, frame_interval against each other
     r.fail(in[pr->key] ? in[pr->key] : in, "integrator." + pr->key, pr->message);
 }
