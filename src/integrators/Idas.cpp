@@ -321,9 +321,11 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   // wherever a step failed to converge, the cut h made v_m's weighted correction larger, and
   // the next attempt failed too, down to h ~ 1e-11 s, with a well-conditioned iteration matrix:
   // the massless satellite stopped at t = 0.1377 s (rtol 1e-6; now it runs on) and SAT1 at
-  // 2.32 s (rtol 1e-8; now 3.08 s). Unless a velocity-dependent force (damping) acts on q_m, v_m feeds no other equation
-  // (the velocity rows of its constraints are pinned), so it leaves the convergence test
-  // (a tolerance no correction reaches; it is out of the error test already, IDASetId 0). A
+  // 2.32 s (rtol 1e-8; with this change alone 3.08 s, the later stops are the sensitivity
+  // corrector's, below). Unless a velocity-dependent force (damping) acts on q_m, v_m feeds
+  // no other equation (the velocity rows of its constraints are pinned), so it leaves the
+  // convergence test (a tolerance no correction reaches; it is out of the error test already,
+  // IDASetId 0). A
   // damped v_m is part of the equilibrium and keeps max(atol, sqrt(rtol)). q_m keeps rtol/atol.
   if (!massless.empty()) {
     // dQ/dv at the start and at velocities 1 m/s larger (a damper nonlinear in v may have

@@ -19,8 +19,8 @@ void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSe
 
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
-                                 "max_newton_iterations", "frame_interval", "sensitivity_error_control", "sensitivity_corrector",
-                                 "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
+                                 "max_newton_iterations", "frame_interval", "sensitivity_error_control",
+                                 "sensitivity_corrector", "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
     r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
