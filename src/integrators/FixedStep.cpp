@@ -244,7 +244,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       };
       if (!lu.factorized() || factoredCa != sc.ca || skipReuse > 0) refresh();
       for (int it = 0; it < set.maxNewtonIterations; ++it) {
-        const VecX dx = lu.solve(VecX(-r));
+        // One plain solve: the matrix is an earlier iterate's, so refining the solve against it
+        // buys nothing the next residual does not correct (satellite, 10 s: 11% of the run).
+        const VecX dx = lu.solve(VecX(-r), false);
         st.newtonIterations++;
         const double update = dx.head(n).lpNorm<Eigen::Infinity>();
         const double theta = previous > 0.0 ? update / previous : 0.0;
