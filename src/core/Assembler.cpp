@@ -312,11 +312,11 @@ void Assembler::addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, d
   }
 }
 
-MatX Assembler::phiQDense(const VecX& q, const VecX& p) const {
+SpMat Assembler::phiQSparse(const VecX& q, const VecX& p) const {
   SparseAccumulator acc;
   acc.begin(m(), n());
   addPhiQ(acc, q, p, 1.0, 0, 0, false);
-  return MatX(acc.finish());
+  return acc.finish();
 }
 
 SpMat Assembler::mass(const VecX& p) const {

@@ -72,8 +72,10 @@ class Assembler {
   /// Phi_qt at (r0, c0): the q-derivative of Phi_t (GGL velocity rows).
   void addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, double s, int64_t r0, int64_t c0) const;
 
+  /// Phi_q (m x n), sparse.
+  SpMat phiQSparse(const VecX& q, const VecX& p) const;
   /// Phi_q as a dense matrix (small systems: PIM, least-norm projections).
-  MatX phiQDense(const VecX& q, const VecX& p) const;
+  MatX phiQDense(const VecX& q, const VecX& p) const { return MatX(phiQSparse(q, p)); }
   /// Constant mass matrix M(p) (elements' masses do not depend on q).
   SpMat mass(const VecX& p) const;
   double potentialEnergy(const VecX& q, const VecX& p) const;
