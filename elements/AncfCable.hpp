@@ -52,6 +52,7 @@ class AncfCable : public KernelElement<AncfCable> {
   /// The hand-coded force (fixed-size kernels); forceT is its value template, for AD.
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }

@@ -71,6 +71,7 @@ class BeamSegment : public KernelElement<BeamSegment> {
               double restLength);
   std::string kind() const override { return "beam_segment"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
@@ -102,6 +103,7 @@ class BeamHinge : public KernelElement<BeamHinge> {
             const VecX& restX, double voronoiLength = 0.0);
   std::string kind() const override { return "beam_hinge"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }

@@ -49,6 +49,7 @@ class BeamHinge3D : public KernelElement<BeamHinge3D> {
               const VecX& restX, double voronoiLength = 0.0);
   std::string kind() const override { return "beam_hinge3d"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }

@@ -23,6 +23,7 @@ class PlanarRigidBody : public KernelElement<PlanarRigidBody> {
                   Quantity mass, Quantity inertia);
   std::string kind() const override { return "planar_rigid_body"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {

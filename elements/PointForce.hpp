@@ -27,6 +27,7 @@ class PointForce : public KernelElement<PointForce> {
   bool isLoad() const override { return true; }
   bool externalWork() const override { return f_ != nullptr; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;

@@ -13,6 +13,7 @@ class RigidBar : public KernelElement<RigidBar> {
       : KernelElement(std::move(name), {a, b}), mass_(mass) {}
   std::string kind() const override { return "rigid_bar"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {

@@ -75,6 +75,8 @@ void checkDerivatives(const AncfCable& e, Local& L, int nParams) {
   e.forceJacobianAD(s, Kad, Kvad);
   EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
   EXPECT_EQ(Kv.norm(), 0.0);
+  EXPECT_EQ(Kvad.norm(), 0.0);
+  EXPECT_FALSE(e.velocityDependent());  // as declared (the assembly skips it for dQ/dv alone)
   EXPECT_GT(K.norm(), 0.0);
   auto force = [&](const VecX& x) {
     LocalState t = s;

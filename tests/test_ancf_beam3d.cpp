@@ -93,6 +93,7 @@ TEST(AncfBeam3D, DerivativesMatchFiniteDifferencesAndAD) {
     EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
     EXPECT_EQ(Kv.norm(), 0.0);
     EXPECT_EQ(Kvad.norm(), 0.0);
+    EXPECT_FALSE(e.velocityDependent());  // as declared (the assembly skips it for dQ/dv alone)
     EXPECT_LT(relMax(K, K.transpose()), 1e-13) << "conservative: symmetric stiffness";
     auto force = [&](const VecX& x) {
       LocalState t = s;

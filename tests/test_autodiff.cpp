@@ -11,8 +11,10 @@
 #include "constraints/Distance.hpp"
 #include "core/Assembler.hpp"
 #include "elements/Beam.hpp"
+#include "elements/PlanarRigidBody.hpp"
 #include "elements/PointForce.hpp"
 #include "elements/RigidBar.hpp"
+#include "elements/RigidBody.hpp"
 #include "integrators/Idas.hpp"
 #include "pim/Rigidization.hpp"
 
@@ -76,6 +78,10 @@ void checkElement(const Element& e, const LocalState& s, int nParams, bool expec
   EXPECT_LT(rel(Kv2, Kv), kTol) << "dQ/dv";
   if (expectStiffness) EXPECT_GT(Kq.norm(), 0.0);
   if (expectDamping) EXPECT_GT(Kv.norm(), 0.0);
+  // The declaration the assembly trusts (it skips such elements when only dQ/dv is wanted):
+  // an element that says its forces never depend on v has dQ/dv = 0 by AD too.
+  if (!e.velocityDependent()) EXPECT_EQ(Kv2.norm(), 0.0) << "declared velocity-independent";
+  if (expectDamping) EXPECT_TRUE(e.velocityDependent());
   for (int k = 0; k <= nParams; ++k) {  // k = nParams: bound to nothing
     SCOPED_TRACE("parameter " + std::to_string(k));
     VecX dQ, dQ2;
@@ -200,6 +206,24 @@ TEST(AutoDiff, PointForce) {
   PointForce e("f", 0, {Quantity{0.0, 0}, Quantity{2.5, -1}, Quantity{0.0, 0}});
   Local l(3, randomVec(3, 14, 1.0), VecX::Zero(3), VecX::Constant(1, -4.0));
   checkElement(e, l.s, 1, false, false);
+}
+
+TEST(AutoDiff, RigidBodies) {
+  // The weight of a body in natural coordinates: no stiffness, no damping; velocities that
+  // are not zero, so that the declared velocity independence is checked where it could fail.
+  const VecX g3 = randomVec(12, 21, 1.0);
+  Eigen::Matrix<double, 3, 4> X0;
+  X0 << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  RigidBody body("body", {0, 1, 2, 3}, X0, Quantity{0.0, 0}, Eigen::Vector3d(0.3, 0.2, 0.1),
+                 {Quantity{1.0, -1}, Quantity{1.2, -1}, Quantity{0.9, -1}, Quantity{0.1, -1}, Quantity{0.0, -1},
+                  Quantity{0.05, -1}});
+  Local l3(3, X0.reshaped(), randomVec(12, 22, 2.0), VecX::Constant(1, 3.5));
+  checkElement(body, l3.s, 1, false, false);
+  const VecX xA = (VecX(2) << 0.1, 0.2).finished(), xB = (VecX(2) << 1.1, 0.4).finished();
+  const VecX com = (VecX(2) << 0.5, 0.4).finished();
+  PlanarRigidBody planar("planar", 0, 1, xA, xB, com, Quantity{0.0, 0}, Quantity{0.2, 1});
+  Local l2(2, (VecX(4) << xA, xB).finished(), randomVec(4, 23, 2.0), (VecX(2) << 2.0, 0.3).finished());
+  checkElement(planar, l2.s, 2, false, false);
 }
 
 // -------------------------------------------------------------------------- constraints

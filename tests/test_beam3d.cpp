@@ -133,6 +133,7 @@ void checkHinge(const BeamHinge3D& e, Local& l, double h, Worst& w) {
   EXPECT_LT((Kad - K).lpNorm<Eigen::Infinity>(), 1e-10 * K.lpNorm<Eigen::Infinity>()) << "dQ/dq AD";
   w.adJac = std::max(w.adJac, (Kad - K).lpNorm<Eigen::Infinity>() / K.lpNorm<Eigen::Infinity>());
   EXPECT_EQ(Cad.norm(), 0.0);
+  EXPECT_FALSE(e.velocityDependent());  // as declared (the assembly skips it for dQ/dv alone)
   // parameter derivatives, k = p.size() bound to nothing
   for (int k = 0; k <= l.p.size(); ++k) {
     SCOPED_TRACE("parameter " + std::to_string(k));

@@ -351,6 +351,7 @@ void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const Ve
   MatX Kq, Kv;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
+    if (sq == 0.0 && !el.velocityDependent()) continue;  // dQ/dv alone, and it is 0 here
     elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     if (sq != 0.0) acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, -sq * lf, r0, cq);

@@ -53,6 +53,9 @@ class Element {
   virtual void force(const LocalState& s, VecX& Q) const = 0;
   /// dQ/dq [N/m] and dQ/dv [N s/m], analytic.
   virtual void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const = 0;
+  /// False when Q never depends on v (dQ/dv = 0 at every state, checked against AD in
+  /// test_autodiff): passes that need dQ/dv alone skip the element. Default: may depend.
+  virtual bool velocityDependent() const { return true; }
   /// Partial derivatives of Q and M with respect to design parameter k at fixed q, v.
   /// Returns false when the element does not depend on parameter k (outputs untouched).
   virtual bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const = 0;
