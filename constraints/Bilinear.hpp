@@ -29,6 +29,7 @@ class BilinearConstraint : public KernelConstraint<BilinearConstraint> {
   int rows() const override { return 1; }
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState&, int, MatX& H) const override { H = H_; }
+  bool constantHessian() const override { return true; }
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 

@@ -14,6 +14,7 @@ class DistanceConstraint : public KernelConstraint<DistanceConstraint> {
   int rows() const override { return 1; }
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
+  bool constantHessian() const override { return true; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {
     return {{"length", &length_}};
@@ -41,6 +42,7 @@ class FixedNodeConstraint : public KernelConstraint<FixedNodeConstraint> {
   void hessian(const LocalState& s, int, MatX& H) const override {
     H.setZero(s.x.size(), s.x.size());
   }
+  bool constantHessian() const override { return true; }
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 

@@ -21,6 +21,7 @@ class SelectedRows : public Constraint {
   void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override { inner_->hessian(s, keep_[r], H); }
+  bool constantHessian() const override { return inner_->constantHessian(); }
   bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;
   void jacobianAD(const LocalState& s, MatX& J) const override;
   void hessianAD(const LocalState& s, int r, MatX& H) const override { inner_->hessianAD(s, keep_[r], H); }

@@ -39,6 +39,7 @@ class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint>
   int rows() const override { return dim_; }
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
+  bool constantHessian() const override { return true; }
   bool parameterDerivative(const LocalState&, int, VecX&, MatX&) const override { return false; }
   std::vector<std::pair<std::string, Quantity*>> properties() override { return {}; }
 

@@ -8,6 +8,7 @@
 
 #include "TestModels.hpp"
 #include "app/Run.hpp"
+#include "constraints/Bilinear.hpp"
 #include "constraints/Distance.hpp"
 #include "core/Assembler.hpp"
 #include "elements/Beam.hpp"
@@ -112,6 +113,13 @@ void checkConstraint(const Constraint& c, const LocalState& s, int nParams, bool
     c.hessianAD(s, r, H2);
     EXPECT_LT(rel(H2, H), kTol) << "Hessian of row " << r;
     hsum += H.norm();
+    if (c.constantHessian()) {  // as declared: AD's Hessian at another state is the same
+      LocalState s2 = s;
+      s2.x = s.x + randomVec(static_cast<int>(s.x.size()), 31 + r, 0.5);
+      MatX H3;
+      c.hessianAD(s2, r, H3);
+      EXPECT_LT(rel(H3, H), kTol) << "constant Hessian of row " << r;
+    }
   }
   if (expectHessian) EXPECT_GT(hsum, 0.0);
   for (int k = 0; k <= nParams; ++k) {
@@ -233,6 +241,20 @@ TEST(AutoDiff, DistanceConstraint) {
     Local l(dim, randomVec(2 * dim, 15 + dim, 1.0), VecX::Zero(2 * dim), VecX::Constant(1, 1.3));
     checkConstraint(c, l.s, 1, true);
   }
+}
+
+TEST(AutoDiff, BilinearConstraints) {
+  // a point on a plane fixed to a body (nodes: the body's 4 basic points, then the point) and
+  // a perpendicularity of two node pairs
+  Eigen::Matrix<double, 3, 4> X0;
+  X0 << 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1;
+  const auto plane = BilinearConstraint::pointOnBodyPlane("plane", {0, 1, 2, 3}, X0, 4, Eigen::Vector3d(0.2, 0.3, 0.1),
+                                                          Eigen::Vector3d(0.3, -0.4, 0.8));
+  Local l(3, randomVec(15, 25, 1.0), VecX::Zero(15), VecX::Constant(1, 1.0));
+  checkConstraint(*plane, l.s, 1, true);
+  const auto perp = BilinearConstraint::perpendicular("perp", {0, 1, 2, 3}, 0.0);
+  Local l2(3, randomVec(12, 26, 1.0), VecX::Zero(12), VecX::Constant(1, 1.0));
+  checkConstraint(*perp, l2.s, 1, true);
 }
 
 TEST(AutoDiff, FixedNodeConstraint) {

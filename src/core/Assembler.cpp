@@ -404,17 +404,29 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
 
 void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p, const VecX& w,
                            double s, int64_t r0, int64_t c0) const {
-  MatX H, sum;
+  MatX H, sum, mask;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
     const LocalState& ls = constraintState(c, q, VecX(), p);
     const int nl = static_cast<int>(consDofs_[c].size());
+    const bool constant = co.constantHessian();
     sum.setZero(nl, nl);
+    if (constant) mask.setZero(nl, nl);
     for (int i = 0; i < co.rows(); ++i) {
       constraintHessian(co, ls, i, H);
       sum += w[consRow_[c] + i] * H;
+      if (constant) mask += H.cwiseAbs();
     }
-    acc.addBlock(consDofs_[c], consDofs_[c], sum, s, r0, c0);
+    if (!constant) {
+      acc.addBlock(consDofs_[c], consDofs_[c], sum, s, r0, c0);
+      continue;
+    }
+    // Only the structural nonzeros (the same at every call): a point on a body's plane has 72
+    // of 225 (satellite: 40.6k additions per Newton matrix, 28k of them zeros, before).
+    const auto& map = consDofs_[c];
+    for (int j = 0; j < nl; ++j)
+      for (int i = 0; i < nl; ++i)
+        if (map[i] >= 0 && map[j] >= 0 && mask(i, j) != 0.0) acc.add(r0 + map[i], c0 + map[j], s * sum(i, j));
   }
 }
 
