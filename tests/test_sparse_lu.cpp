@@ -141,7 +141,9 @@ TEST(SparseLU, SatelliteNewtonMatricesFillLittleAtEveryRefinement) {
     ASSERT_NE(at, std::string::npos);
     const double fill = std::atof(s.c_str() + at + 11);
     std::printf("  refine %d: lu_fill %.3f\n", refine, fill);
+    // nnz(L + U) / nnz(A): 1.26 / 1.28 while A held the constant Hessians' zero entries, 1.81 /
+    // 1.84 without them for the same L + U (KLU's own ordering: 4.8x and 7.8x of the A with them).
     EXPECT_GT(fill, 1.0);
-    EXPECT_LT(fill, 1.5);
+    EXPECT_LT(fill, 2.0);
   }
 }
