@@ -7,7 +7,7 @@ each got, and how x_B2 and dx_B2/dL_B1B2 differ between consecutive tolerances, 
 the largest |value| of the tightest run over the common time; the agreement time is the last
 frame up to which the 1e-8 and 1e-10 runs agree to 1e-4 of that scale at every frame. The runs
 named *_staggered are the earlier ones with IDAS' staggered sensitivity corrector (kept as
-history: they stopped). The growth section measures how fast perturbations grow along the
+history: they stopped); nominal_rRTOL are the motion alone, without sensitivities. The growth section measures how fast perturbations grow along the
 motion: the spread of the four opening angles in the symmetric case (SAT1) and |dx_B2/dL|."""
 import math
 import csv, json, os, re, sys
@@ -32,7 +32,7 @@ def load(case, name):
         return None
     rows = list(csv.DictReader(open(series)))
     summ = json.load(open(os.path.join(d, case, 'summary.json')))
-    cpu = open(os.path.join(d, 'cpu.txt')).read().split()
+    cpu = open(os.path.join(d, 'cpu.txt')).read().split('\n')[-2].split()  # its last line (/usr/bin/time may write 'Command exited ...' before)
     log = open(os.path.join(d, 'run.log')).read().replace('\r', '\n')
     fail = [l for l in log.splitlines() if 'numerical failure' in l or 'SUSPECT' in l]
     nums = [c for c in cpu if re.fullmatch(r'[0-9.]+', c)]
@@ -43,6 +43,22 @@ def load(case, name):
             'steps': summ.get('statistics', {}).get('steps'), 'cpu': float(nums[0]) + float(nums[1]) if len(nums) >= 2 else None,
             'note': fail[0][:400] if fail else '', 'health': summ.get('health', {}),
             'commit': open(os.path.join(d, 'commit.txt')).read().strip() if os.path.exists(os.path.join(d, 'commit.txt')) else '?'}
+
+
+def load_nominal(rtol):
+    """run.sh nominal RTOL: the motion alone (no parameters), written without a case folder."""
+    d = os.path.join(runs, f'nominal_r{rtol}')
+    if not os.path.exists(os.path.join(d, 'series.csv')):
+        return None
+    rows = list(csv.DictReader(open(os.path.join(d, 'series.csv'))))
+    summ = json.load(open(os.path.join(d, 'summary.json')))
+    nums = [c for c in open(os.path.join(d, 'cpu.txt')).read().strip().split('\n')[-1].split() if re.fullmatch(r'[0-9.]+', c)]
+    return {'t': [float(r['t']) for r in rows], 'x': [float(r[OUT]) for r in rows],
+            'spread': [max(float(r[f'open{k}']) for k in range(1, 5)) - min(float(r[f'open{k}']) for k in range(1, 5))
+                       for r in rows],
+            'status': summ.get('status', '?'), 'steps': summ.get('statistics', {}).get('steps'),
+            'cpu': float(nums[0]) + float(nums[1]) if len(nums) >= 2 else None,
+            'commit': open(os.path.join(d, 'commit.txt')).read().strip()}
 
 
 def compare(a, b, key, tol=1e-4):
@@ -103,9 +119,9 @@ md = ['# The massless satellite over 10 s: IDAS reference and fixed-step schemes
 plots = {}
 summary = []
 for case in cases:
-    idas = {r: load(case, 'r' + r) for r in RTOLS + STAGGERED}
+    idas = {r: load(case, 'r' + r) for r in RTOLS + [NOSERR] + STAGGERED}
     md += [f'## {case}', '', '| run | code | status | reached t [s] | steps | CPU [s] | note |', '|---|---|---|---|---|---|---|']
-    for r in RTOLS + STAGGERED:
+    for r in RTOLS + [NOSERR] + STAGGERED:
         d = idas[r]
         if d:
             md.append(f"| IDAS {label_of(r)} | {d['commit']} | {d['status']} | {d['t'][-1]:.2f} | {d['steps']} | {d['cpu']:.0f} | {d['note']} |")
@@ -119,7 +135,7 @@ for case in cases:
     done = [r for r in RTOLS if idas[r]]
     for a, b in zip(done, done[1:]):
         md.append(row(f'rtol {a} vs {b}', idas[a], idas[b]))
-    for r in STAGGERED:  # the staggered runs against the simultaneous ones (tightest first)
+    for r in [NOSERR] + STAGGERED:  # the other runs against the simultaneous ones (tightest first)
         if idas[r]:
             for b in done[::-1]:
                 md.append(row(f'{label_of(r)} vs rtol {b} (simultaneous)', idas[r], idas[b]))
@@ -153,6 +169,34 @@ for case in cases:
             summary.append(f'- SAT1 is symmetric (four equal panels); the spread of the four opening angles grows as '
                            f'exp({gp:.2f} t/s) over 1.5 .. {min(t1, 5.0):.1f} s, to {max(ref["spread"]):.2e} rad.')
     plots[case] = (idas, fixed, best)
+# The motion alone: IDAS without sensitivities (run.sh nominal RTOL), against each other and
+# against the runs with sensitivities (same motion, other step sequences).
+nominal = {r: load_nominal(r) for r in RTOLS}
+if any(nominal.values()):
+    md += ['## The motion alone (no sensitivities)', '',
+           'IDAS on the scene without its parameters and cases (`run.sh nominal RTOL`): the state alone, with the same '
+           'tolerances. x_B2 relative to the largest |x_B2| of the second run of each pair.', '',
+           '| run | code | status | reached t [s] | steps | CPU [s] |', '|---|---|---|---|---|---|']
+    for r in RTOLS:
+        d = nominal[r]
+        if d:
+            md.append(f"| IDAS rtol {r}, no sensitivities | {d['commit']} | {d['status']} | {d['t'][-1]:.2f} | "
+                      f"{d['steps']} | {d['cpu']:.0f} |")
+    md += ['', '| pair | common time [s] | max rel. diff x_B2 | x_B2 within 1e-4 / 1e-2 until [s] |', '|---|---|---|---|']
+    nd = [r for r in RTOLS if nominal[r]]
+    for a, b in zip(nd, nd[1:]):
+        wx, ax, tc = compare(nominal[a], nominal[b], 'x')
+        ax2 = compare(nominal[a], nominal[b], 'x', 1e-2)[1]
+        md.append(f'| no sensitivities, rtol {a} vs {b} | {tc:.2f} | {wx:.2e} | {ax} / {ax2} |')
+    for case in cases:
+        for r in RTOLS:
+            a = load(case, 'r' + r)
+            if a and nominal.get(r):
+                wx, ax, tc = compare(a, nominal[r], 'x')
+                ax2 = compare(a, nominal[r], 'x', 1e-2)[1]
+                md.append(f'| {case} rtol {r} (with sensitivities) vs no sensitivities rtol {r} | {tc:.2f} | {wx:.2e} | '
+                          f'{ax} / {ax2} |')
+    md.append('')
 md += ['## Reach of the reference and growth of perturbations', ''] + summary + ['']
 
 try:
@@ -174,6 +218,10 @@ try:
                 if case == 'SAT1':
                     ax[2][j].semilogy(d['t'][1:], [v for v in d['spread'][1:]], style, color='tab:orange',
                                       label=lab + ': spread of the 4 opening angles [rad]')
+        for r, style in zip(RTOLS, [':', '--', '-']):
+            if nominal.get(r):
+                ax[0][j].plot(nominal[r]['t'], nominal[r]['x'], style, color='tab:gray', lw=1,
+                              label=f'IDAS rtol {r}, no sensitivities')
         for (k, label), c in zip(FIXED, ['tab:red', 'tab:blue', 'tab:green', 'tab:purple']):
             d = fixed[k]
             if d:

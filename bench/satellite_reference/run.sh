@@ -8,6 +8,8 @@
 # two cores). analyze.py compares them. FLEXSENS: the binary (default build/flexsens).
 # SENS_ERROR_CONTROL=false: sensitivities out of IDAS' error test (integrator key
 # sensitivity_error_control), written to runs/CASE_rRTOL_noserr/.
+# CASE = nominal: the motion alone (the scene without its parameters and cases; needs
+# python3-yaml), written to runs/nominal_rRTOL/.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -25,10 +27,16 @@ for rtol in "$@"; do
       -e "s#gmsh: ../../meshes#gmsh: $root/meshes#" \
       "$root/examples/satellite/satellite_massless.yaml" > "$scene"
   rm -rf "$out"
+  commit="$(git -C "$root" rev-parse --short HEAD)"  # the checkout at the start (build it first)
+  case_args=(--case "$case_name")
+  if [ "$case_name" = nominal ]; then
+    python3 -c 'import sys, yaml; d = yaml.safe_load(open(sys.argv[1])); d.pop("parameters", None); d.pop("cases", None); yaml.safe_dump(d, open(sys.argv[1], "w"), sort_keys=False)' "$scene"
+    case_args=()
+  fi
   /usr/bin/time -f "%U %S %e %M" -o "$out.time" \
-    "$bin" run "$scene" --integrator idas --case "$case_name" --t-end 10 --out "$out" \
+    "$bin" run "$scene" --integrator idas "${case_args[@]}" --t-end 10 --out "$out" \
     > "$out.log" 2>&1 || echo "run $case_name rtol $rtol failed: see $out.log"
   mkdir -p "$out"; mv "$out.time" "$out/cpu.txt"; mv "$out.log" "$out/run.log"
-  git -C "$root" rev-parse --short HEAD > "$out/commit.txt"  # the checkout (build it first)
-  rm -f "$out"/*/frame_*.vtu "$scene"   # keep the series and the summary (frames: 50 MB)
+  echo "$commit" > "$out/commit.txt"
+  rm -f "$out"/*/frame_*.vtu "$out"/frame_*.vtu "$scene"   # keep the series and the summary (frames: 50 MB)
 done
