@@ -244,8 +244,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       };
       if (!lu.factorized() || factoredCa != sc.ca || skipReuse > 0) refresh();
       for (int it = 0; it < set.maxNewtonIterations; ++it) {
-        // One plain solve: the matrix is an earlier iterate's, so refining the solve against it
-        // buys nothing the next residual does not correct (satellite, 10 s: 11% of the run).
+        // One plain solve: the matrix is in general an earlier iterate's, so refining the solve
+        // against it buys nothing the next residual does not correct (satellite, 10 s: 11% of
+        // the run).
         const VecX dx = lu.solve(VecX(-r), false);
         st.newtonIterations++;
         const double update = dx.head(n).lpNorm<Eigen::Infinity>();
