@@ -112,10 +112,10 @@ class Constraint {
   /// Second derivative of row r, local dofs x local dofs. flexsens constraints are at most
   /// quadratic in q (paper, remark 4.1), so the Hessian is constant in q.
   virtual void hessian(const LocalState& s, int r, MatX& H) const = 0;
-  /// True when every row's Hessian is the same at every state (constraints at most quadratic
-  /// in q; checked against AD at a second state in test_autodiff): the assembly then leaves the
-  /// Hessian's zero entries out of the Newton matrix's pattern (fewer entries to add and to
-  /// factor). Default: may change with the state.
+  /// True when every row's Hessian is the same at every state, q and t alike (checked against
+  /// AD at a second state in test_autodiff): the assembly then leaves the Hessian's zero
+  /// entries out of the Newton matrix's pattern (fewer entries to add and to factor). Default
+  /// false: an angle driver's Hessian is constant in q but moves with f(t).
   virtual bool constantHessian() const { return false; }
   /// Phi_p and Phi_qp for parameter k; false if the constraint does not depend on k.
   virtual bool parameterDerivative(const LocalState& s, int k, VecX& dphi, MatX& dJ) const = 0;
