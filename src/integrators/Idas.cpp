@@ -162,6 +162,7 @@ struct Problem {
   std::string lastError;  ///< last message from IDAS' error handler
   std::string failure;    ///< exception text caught inside a callback
   std::string linearFailure;  ///< the last factorization that failed (IDAS may have recovered)
+  std::string sensitivityHint;  ///< appended to step failures: what to try with sensitivities
 };
 
 Eigen::Map<VecX> view(N_Vector v) { return {N_VGetArrayPointer(v), N_VGetLength(v)}; }
@@ -177,7 +178,8 @@ void check(int flag, const char* fn, const Problem& pb, double t) {
   if (!pb.linearFailure.empty()) os << "; the last failed factorization: " << pb.linearFailure;
   if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL || flag == IDA_TOO_MUCH_WORK)
     os << "; try a looser rtol/atol, a smaller maximum step (dt), or check the model's "
-          "stiffness and initial state";
+          "stiffness and initial state"
+       << pb.sensitivityHint;
   throw NumericalError(os.str());
 }
 
@@ -279,7 +281,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   const int N = 2 * (n + m);
   const int Ns = static_cast<int>(start.dp.size());
   VecX pWork = p;  // IDAS' difference quotients perturb the parameters in place
-  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, 0.0, {}, {}, {}, {}, {}, {}};
+  Problem pb{&as, &pWork, n, m, {}, {}, {}, {}, 0.0, {}, {}, {}, {}, {}, {}, {}};
   double t = start.x.t;
 
   SUNContext rawCtx = nullptr;
@@ -395,6 +397,10 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       check(IDASensInit(ida, Ns, corrector, sensResidual, yS.data(), ypS.data()), "IDASensInit", pb, t);
     }
     check(IDASensEEtolerances(ida), "IDASensEEtolerances", pb, t);
+    if (set.sensitivityTolerance == "state")
+      pb.sensitivityHint = "; if the sensitivities grow far beyond the state's size (|dq/dp| |p| / L in the "
+                           "run health), integrator.sensitivity_tolerance: normwise holds each to rtol "
+                           "of its own size";
     // The staggered sensitivity corrector iterates with the state's (possibly older) iteration
     // matrix; IDAS allows it 4 iterations, after which the step fails and h is cut. At rtol
     // 1e-10 the rigid five-bar (case R3) then failed for good at t = 1.436 s, and the massless
@@ -410,6 +416,40 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
       check(IDASetMaxNonlinIters(ida, kIdasSensitivityIterations), "IDASetMaxNonlinIters", pb, t);
     check(IDASetSensErrCon(ida, set.sensitivityErrorControl ? SUNTRUE : SUNFALSE), "IDASetSensErrCon", pb, t);
   }
+  // Normwise sensitivity tolerances. IDAS' estimated ones (IDASensEEtolerances) weigh each
+  // sensitivity component with the state's weight rtol |y_i| + atol_i: an absolute accuracy
+  // of the state's size. A sensitivity that grows (an unstable motion: the massless
+  // satellite's dx_B2/dL grows as exp(3.8 t/s), to 1e8 by 6 s) is then asked for ~16 digits:
+  // its round-off alone fails the corrector's test and the error test whatever h, IDAS cuts h
+  // to ~1e-11 s and stops (SAT1 at t = 5.93 s, SAT2 at 6.06 s, rtol 1e-8). Normwise, each
+  // sensitivity vector is held to rtol of its own size: rtol |s_i| + max(atol_i, rtol
+  // |s_k|_inf) (the multipliers stay out of the test). Updated before every step from the
+  // sensitivities reached (one pass over them).
+  std::vector<VectorPtr> atolS;
+  std::vector<N_Vector> atolSRaw, ySNow;
+  auto updateSensitivityTolerances = [&](double tNow) {
+    if (Ns == 0 || set.sensitivityTolerance != "normwise") return;
+    if (atolS.empty())
+      for (int k = 0; k < Ns; ++k) {
+        atolS.emplace_back(N_VNew_Serial(N, ctx.get()));
+        atolSRaw.push_back(atolS.back().get());
+        ySNow.push_back(N_VNew_Serial(N, ctx.get()));
+      }
+    double tS = tNow;
+    if (tNow == start.x.t)
+      for (int k = 0; k < Ns; ++k) N_VScale(1.0, yS[size_t(k)], ySNow[size_t(k)]);
+    else
+      check(IDAGetSens(ida, &tS, ySNow.data()), "IDAGetSens", pb, tNow);
+    const auto atolY = view(atolv.get());
+    for (int k = 0; k < Ns; ++k) {
+      const double floor = set.rtol * view(ySNow[size_t(k)]).head(2 * n).lpNorm<Eigen::Infinity>();
+      auto a = view(atolSRaw[size_t(k)]);
+      for (int i = 0; i < N; ++i) a[i] = atolY[i] >= kUntestedTolerance ? atolY[i] : std::max(atolY[i], floor);
+    }
+    check(IDASensSVtolerances(ida, set.rtol, atolSRaw.data()), "IDASensSVtolerances", pb, tNow);
+  };
+  struct SensGuard { std::vector<N_Vector>& v; ~SensGuard() { for (auto x : v) N_VDestroy(x); } } sensGuard{ySNow};
+  updateSensitivityTolerances(t);
 
   IntegratorStats st;
   auto counter = [&](int (*get)(void*, long*), const char* fn) {
@@ -496,6 +536,7 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
         check(IDASetStopTime(ida, stop), "IDASetStopTime", pb, t);
         stopSet = stop;
       }
+      if (stepsThisFrame > 0 || f > 1) updateSensitivityTolerances(t);
       double tret = t;
       const int flag = IDASolve(ida, set.tEnd, &tret, y.get(), yp.get(), IDA_ONE_STEP);
       if (flag < 0) {  // the failed run's summary reports the work done up to here

@@ -27,6 +27,12 @@ struct IntegratorSettings {
   /// converged, with its iteration matrix; "simultaneous": state and sensitivities in one
   /// Newton iteration and one convergence test (see README, IDAS).
   std::string sensitivityCorrector = "staggered";
+  /// IDAS: the sensitivities' error weights. "state": IDAS' own estimate
+  /// (IDASensEEtolerances): each sensitivity held to the state's weights rtol |y_i| + atol_i,
+  /// an absolute accuracy of the state's size however large the sensitivity grows;
+  /// "normwise": rtol |s_i| + max(atol_i, rtol |s_k|_inf), each sensitivity vector held to
+  /// rtol of its own size (see README, IDAS: growing sensitivities).
+  std::string sensitivityTolerance = "state";
   /// Energy audit (app/EnergyAudit.hpp): a gain of the energy balance E - E0 - W above this
   /// fraction of the run's energy scale marks the run suspect; 0 switches that side off ...
   double energyTolerance = 0.05;
@@ -40,6 +46,7 @@ struct IntegratorSettings {
 };
 
 inline bool isSensitivityCorrector(const std::string& c) { return c == "staggered" || c == "simultaneous"; }
+inline bool isSensitivityTolerance(const std::string& c) { return c == "state" || c == "normwise"; }
 
 inline bool isNewtonMode(const std::string& m) { return m == "full" || m == "modified"; }
 

@@ -20,7 +20,7 @@ void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSe
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
                                  "max_newton_iterations", "frame_interval", "sensitivity_error_control",
-                                 "sensitivity_corrector", "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
+                                 "sensitivity_corrector", "sensitivity_tolerance", "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
     r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
@@ -57,6 +57,12 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
     if (!isSensitivityCorrector(s.sensitivityCorrector))
       r.fail(in["sensitivity_corrector"], "integrator.sensitivity_corrector",
              "expected staggered or simultaneous, got '" + s.sensitivityCorrector + "'");
+  }
+  if (in["sensitivity_tolerance"]) {
+    s.sensitivityTolerance = r.text(in["sensitivity_tolerance"], "integrator.sensitivity_tolerance");
+    if (!isSensitivityTolerance(s.sensitivityTolerance))
+      r.fail(in["sensitivity_tolerance"], "integrator.sensitivity_tolerance",
+             "expected state or normwise, got '" + s.sensitivityTolerance + "'");
   }
   if (const auto pr = checkTimes(s))  // t_end, dt, frame_interval against each other
     r.fail(in[pr->key] ? in[pr->key] : in, "integrator." + pr->key, pr->message);
