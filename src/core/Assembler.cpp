@@ -137,6 +137,39 @@ bool Assembler::constraintParameterDerivative(const Constraint& co, const LocalS
              : co.parameterDerivative(s, k, dphi, dJ);
 }
 
+const std::vector<int>& Assembler::elementsDependingOn(int k, const VecX& q, const VecX& v, const VecX& p) const {
+  if (size_t(k) >= paramElementsKnown_.size()) {
+    paramElementsKnown_.resize(size_t(k) + 1, 0);
+    paramElements_.resize(size_t(k) + 1);
+  }
+  if (!paramElementsKnown_[size_t(k)]) {
+    VecX dQ;
+    MatX dM;
+    auto& list = paramElements_[size_t(k)];
+    for (size_t e = 0; e < model_.elements.size(); ++e)
+      if (elementParameterDerivative(*model_.elements[e], elementState(e, q, v, p), k, dQ, dM)) list.push_back(int(e));
+    paramElementsKnown_[size_t(k)] = 1;
+  }
+  return paramElements_[size_t(k)];
+}
+
+const std::vector<int>& Assembler::constraintsDependingOn(int k, const VecX& q, const VecX& p) const {
+  if (size_t(k) >= paramConstraintsKnown_.size()) {
+    paramConstraintsKnown_.resize(size_t(k) + 1, 0);
+    paramConstraints_.resize(size_t(k) + 1);
+  }
+  if (!paramConstraintsKnown_[size_t(k)]) {
+    VecX dphi;
+    MatX dJ;
+    auto& list = paramConstraints_[size_t(k)];
+    for (size_t c = 0; c < cons_.size(); ++c)
+      if (constraintParameterDerivative(*cons_[c], constraintState(c, q, VecX(), p), k, dphi, dJ))
+        list.push_back(int(c));
+    paramConstraintsKnown_[size_t(k)] = 1;
+  }
+  return paramConstraints_[size_t(k)];
+}
+
 // ----------------------------------------------------------------------------- vectors
 VecX Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly) const {
   VecX Q = VecX::Zero(n());
@@ -468,9 +501,9 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
         if (map[i] >= 0) r[map[i]] += g[i];
     }
   }
-  for (size_t e = 0; e < model_.elements.size(); ++e) {
-    const auto& el = *model_.elements[e];
-    if (!elementParameterDerivative(el, elementState(e, q, v, p), k, dQ, dM)) continue;
+  for (int e : elementsDependingOn(k, q, v, p)) {
+    const auto& el = *model_.elements[size_t(e)];
+    if (!elementParameterDerivative(el, elementState(size_t(e), q, v, p), k, dQ, dM)) continue;
     if (el.isLoad()) dQ *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
@@ -484,9 +517,9 @@ VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) co
   VecX dQ;
   MatX dM;
   const VecX q0 = model_.initialPositions();
-  for (size_t e = 0; e < model_.elements.size(); ++e) {
-    const auto& el = *model_.elements[e];
-    if (!elementParameterDerivative(el, elementState(e, q0, VecX(), p), k, dQ, dM)) continue;
+  for (int e : elementsDependingOn(k, q0, VecX(), p)) {
+    const auto& el = *model_.elements[size_t(e)];
+    if (!elementParameterDerivative(el, elementState(size_t(e), q0, VecX(), p), k, dQ, dM)) continue;
     if (dM.size() == 0) continue;
     const auto& map = elemDofs_[e];
     const VecX g = dM * gather(map, a);
@@ -500,7 +533,8 @@ VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {
   VecX r = VecX::Zero(m());
   VecX dphi;
   MatX dJ;
-  for (size_t c = 0; c < cons_.size(); ++c) {
+  for (int ci : constraintsDependingOn(k, q, p)) {
+    const size_t c = size_t(ci);
     const auto& co = *cons_[c];
     if (constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ))
       r.segment(consRow_[c], co.rows()) = dphi;
@@ -512,7 +546,8 @@ VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, co
   VecX r = VecX::Zero(m());
   VecX dphi;
   MatX dJ;
-  for (size_t c = 0; c < cons_.size(); ++c) {
+  for (int ci : constraintsDependingOn(k, q, p)) {
+    const size_t c = size_t(ci);
     const auto& co = *cons_[c];
     if (constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ) && dJ.size())
       r.segment(consRow_[c], co.rows()) = dJ * gather(consDofs_[c], x);
@@ -525,7 +560,8 @@ VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, 
   VecX r = VecX::Zero(n());
   VecX dphi;
   MatX dJ;
-  for (size_t c = 0; c < cons_.size(); ++c) {
+  for (int ci : constraintsDependingOn(k, q, p)) {
+    const size_t c = size_t(ci);
     const auto& co = *cons_[c];
     if (!constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ) || !dJ.size())
       continue;

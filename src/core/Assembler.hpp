@@ -167,6 +167,14 @@ class Assembler {
   void fillLocalState(LocalState& s, const std::vector<int>& nodes, const VecX& q, const VecX& v,
                       const VecX& p, int gradients) const;
   mutable std::vector<LocalState> elemScratch_, consScratch_;  ///< elementState, constraintState
+  /// Per design parameter k: the elements (constraints) whose Q or M (Phi) depend on it, found
+  /// at the first derivative with respect to k by asking each one (a kernel's "false" is
+  /// structural: no property or time function of it is bound to k). The parameter loops then
+  /// visit only those, not every element once per parameter and step.
+  const std::vector<int>& elementsDependingOn(int k, const VecX& q, const VecX& v, const VecX& p) const;
+  const std::vector<int>& constraintsDependingOn(int k, const VecX& q, const VecX& p) const;
+  mutable std::vector<std::vector<int>> paramElements_, paramConstraints_;
+  mutable std::vector<char> paramElementsKnown_, paramConstraintsKnown_;
   bool gravityBound_ = false;
   mutable double loadFactor_ = 1.0;
   mutable double time_ = 0.0;

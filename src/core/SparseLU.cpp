@@ -89,6 +89,7 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
   if (!numeric_) {
     numeric_ = klu_l_factor(Ap, Ai, Ax, symbolic_, &common_);
     ok = numeric_ && common_.status == KLU_OK && conditioned(1e-16);
+    if (numeric_ && klu_l_flops(symbolic_, numeric_, &common_)) factorFlops_ = common_.flops;
   }
   ++count_;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -43,6 +43,12 @@ class SparseLU {
   /// Pivots KLU took off the diagonal in the last fresh factorization (0 when the ordering
   /// worked as intended; each one costs fill).
   long offDiagonalPivots() const { return common_.noffdiag; }
+  /// Work of one numeric factorization of the held pattern (KLU's flop count of the last fresh
+  /// factorization: a refactorization keeps its pivots) and of one solve with it (a multiply
+  /// and an add per entry of L and U) [flops]: machine-independent costs, for choosing between
+  /// factoring a matrix and iterating with this factorization.
+  double factorFlops() const { return factorFlops_; }
+  double solveFlops() const { return numeric_ ? 2.0 * double(numeric_->lnz + numeric_->unz) : 0.0; }
   /// A factorization is held (false before the first and after one that failed).
   bool factorized() const { return numeric_ != nullptr; }
 
@@ -53,7 +59,7 @@ class SparseLU {
   klu_l_numeric* numeric_ = nullptr;
   SpMat pattern_;  ///< the matrix factorized last (its structure is the one analysed)
   long count_ = 0;
-  double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0;
+  double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0, factorFlops_ = 0.0;
 };
 
 }  // namespace flexsens

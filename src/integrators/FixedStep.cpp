@@ -134,6 +134,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   IntegratorStats st;
   SparseAccumulator acc, kv;
   SparseLU lu;  // modified Newton: kept across iterations and steps
+  long gmresSolves = 0, gmresColumns = 0;  // sensitivity solves by GMRES: LU applications, columns
   double factoredCa = 0.0;  // the scheme coefficient of the matrix in lu (h changed: refresh)
   const bool modified = set.newton == "modified";  // else full Newton
   // A step starts with the matrix of an earlier step unless that failed lately: after a
@@ -347,16 +348,12 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
 
     std::vector<State> dnext(cur.dp.size());
     if (!cur.dp.empty()) {
-      // Exact derivative of the discrete step: Newton matrix at the converged point.
+      // Exact derivative of the discrete step: A(q_{n+1}) dx/dp = -dr/dp at fixed q_{n+1}, with
+      // the Newton matrix at the converged point; one right-hand side per parameter.
       const VecX& qf = sc.forcePoint(q, old.q, qfBuf);
       const VecX& vf = sc.forcePoint(next.v, old.v, vfBuf);
       const SpMat& A = newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
       st.jacobianEvaluations++;
-      const std::string what = "sensitivity matrix at t = " + std::to_string(t) + " s";
-      // Solved by GMRES preconditioned with the LU Newton kept (full Newton: of the last
-      // iterate, next to the converged point); A is factorized only when that does not converge.
-      bool exact = false;
-      const double normA = infNorm(A);
       kv.begin(n, n);
       as.addForceJacobian(kv, qf, vf, p, 0.0, -1.0, 0, 0, 0);
       const SpMat dQdv = kv.finish();
@@ -366,48 +363,79 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         as.addForceJacobian(kv, qf, vf, p, -1.0, 0.0, 0, 0, 0);
         dQdq = kv.finish();
       }
-      for (size_t k = 0; k < cur.dp.size(); ++k) {
-        const State& dold = cur.dp[k];
+      const Eigen::Index np = Eigen::Index(cur.dp.size());
+      MatX X(n + m, np), hist(2 * n, np);  // right-hand sides -> solutions; (a, v) at fixed q_{n+1}
+      for (Eigen::Index k = 0; k < np; ++k) {
+        const State& dold = cur.dp[size_t(k)];
         VecX dabar, dvbar;
         sc.history(dold, dabar, dvbar);
         const VecX ah = -sc.ca * dold.q + dabar;  // d a / dp at fixed q_{n+1}
         const VecX vh = -sc.cv * dold.q + dvbar;  // d v / dp at fixed q_{n+1}
-        VecX rp(n + m);
         // d(qf, vf)/dp at fixed q_{n+1}: ((1 - fw) dq_n, fw vh + (1 - fw) dv_n).
-        VecX forceTerm = as.forceParamDerivative(qf, vf, p, k);
+        VecX forceTerm = as.forceParamDerivative(qf, vf, p, int(k));
         if (sc.fw != 1.0)
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
           forceTerm += dQdv * vh;
-        rp.head(n) = sigma * (as.massParamDerivativeTimes(p, k, next.a) + M * ah - forceTerm) +
-                     as.phiQParamDerivativeTransposeTimes(q, p, k, lt);
-        if (m) rp.tail(m) = as.phiParamDerivative(q, p, k);
-        VecX x;
-        if (!exact) {
-          const PreconditionedSolveResult res =
-              preconditionedSolve(A, normA, lu, VecX(-rp), x, kSensitivityBackwardError, kSensitivitySolves);
+        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), next.a) + M * ah - forceTerm) +
+                             as.phiQParamDerivativeTransposeTimes(q, p, int(k), lt));
+        if (m) X.col(k).tail(m) = -as.phiParamDerivative(q, p, int(k));
+        hist.col(k) << ah, vh;
+      }
+      const std::string what = "sensitivity matrix at t = " + std::to_string(t) + " s";
+      // Solved by GMRES preconditioned with the LU Newton kept (full Newton: of the last
+      // iterate, next to the converged point), without a factorization; with several
+      // parameters, by factoring A instead when that costs fewer flops (counts, not clocks:
+      // the same choice on every machine). GMRES: per parameter s iterations (s: the
+      // preconditioner solves per parameter so far, 3 before any), each an LU solve, a product
+      // with A and ~10 vector passes, plus Gram-Schmidt's 2 (n + m) s^2. Factoring: twice KLU's
+      // flop count (its refactorization's overhead), then up to two refined solves per
+      // parameter. Ten parameters, BDF-1: GMRES took 0.075 / 2.90 s, factoring 0.059 / 2.67 s
+      // of the flexible five-bar's / the 3000-segment chain's runs; one parameter: a wash.
+      const double perSolve = lu.solveFlops() + 2.0 * double(A.nonZeros()) + 10.0 * double(n + m);
+      const double s = gmresColumns > 0 ? double(gmresSolves) / double(gmresColumns) : 3.0;
+      const double iterate = double(np) * (s * perSolve + 2.0 * double(n + m) * s * s);
+      const double factor = 2.0 * lu.factorFlops() + double(np) * 2.0 * perSolve;
+      bool exact = np > 1 && iterate > factor && lu.factorFlops() > 0.0;
+      if (exact) {
+        lu.factor(A, what);
+        st.sensitivityFactorizations++;
+      }
+      Eigen::Index iterated = 0;  // the first columns, solved by GMRES
+      if (!exact) {
+        const double normA = infNorm(A);
+        for (; iterated < np; ++iterated) {
+          VecX x;
+          const PreconditionedSolveResult res = preconditionedSolve(
+              A, normA, lu, VecX(X.col(iterated)), x, kSensitivityBackwardError, kSensitivitySolves);
           st.sensitivityIterations += res.preconditionerSolves;
-          if (!res.converged) {
+          gmresSolves += res.preconditionerSolves;
+          ++gmresColumns;
+          if (!res.converged) {  // this column and the rest with A factorized
             lu.factor(A, what);
             st.sensitivityFactorizations++;
             exact = true;
+            break;
           }
+          X.col(iterated) = x;
         }
-        if (exact) {
-          // One step of iterative refinement: the Newton matrix of natural-coordinate rigid
-          // bodies can be ill-conditioned (thin bars: tiny second moments about their axis),
-          // and unlike the state, whose Newton iteration corrects its own solves, the
-          // sensitivity is a single solve per step: refinement keeps it the exact derivative
-          // of the discrete step (the 3D double pendulum was off by 2e-6 relative without it).
-          x = lu.solve(VecX(-rp));
-          x += lu.solve(VecX(-rp - A * x));
-        }
-        State& d = dnext[k];
-        d.q = x.head(n);
-        d.lambda = x.tail(m) / sigma;
-        d.v = sc.cv * d.q + vh;
-        d.a = sc.ca * d.q + ah;
-        d.pseudoAcc = sc.nextPseudo(dold, d.a);
+      }
+      if (exact) {
+        // Refined against A: the Newton matrix of natural-coordinate rigid bodies can be
+        // ill-conditioned (thin bars: tiny second moments about their axis), and unlike the
+        // state, whose Newton iteration corrects its own solves, the sensitivity is a single
+        // solve per step (the 3D double pendulum was off by 2e-6 relative unrefined).
+        MatX rest = X.rightCols(np - iterated);
+        lu.solve(rest);
+        X.rightCols(np - iterated) = rest;
+      }
+      for (Eigen::Index k = 0; k < np; ++k) {
+        State& d = dnext[size_t(k)];
+        d.q = X.col(k).head(n);
+        d.lambda = X.col(k).tail(m) / sigma;
+        d.v = sc.cv * d.q + hist.col(k).tail(n);
+        d.a = sc.ca * d.q + hist.col(k).head(n);
+        d.pseudoAcc = sc.nextPseudo(cur.dp[size_t(k)], d.a);
       }
     }
     cur.x = std::move(next);
