@@ -31,7 +31,7 @@ struct IntegratorSettings {
   /// (IDASensEEtolerances): each sensitivity held to the state's weights rtol |y_i| + atol_i,
   /// an absolute accuracy of the state's size however large the sensitivity grows;
   /// "normwise": rtol |s_i| + max(atol_i, rtol |s_k|_inf), each sensitivity vector held to
-  /// rtol of its own size, the norm taken apart over dq/dp and dv/dp (see README, IDAS).
+  /// rtol of its own size, the norm over dq/dp and dv/dp together (see README, IDAS).
   std::string sensitivityTolerance = "state";
   /// Energy audit (app/EnergyAudit.hpp): a gain of the energy balance E - E0 - W above this
   /// fraction of the run's energy scale marks the run suspect; 0 switches that side off ...
