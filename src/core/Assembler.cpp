@@ -1,5 +1,7 @@
 #include "core/Assembler.hpp"
 
+#include <optional>
+
 namespace flexsens {
 
 namespace {
@@ -7,6 +9,21 @@ std::vector<int> iota(int start, int count) {
   std::vector<int> r(count);
   for (int i = 0; i < count; ++i) r[i] = start + i;
   return r;
+}
+
+/// The indices i < count with depends(i), found at the first request for parameter k and kept
+/// in cache[k].
+template <class Depends>
+const std::vector<int>& dependentsOf(std::vector<std::optional<std::vector<int>>>& cache, int k, size_t count,
+                                     Depends depends) {
+  if (size_t(k) >= cache.size()) cache.resize(size_t(k) + 1);
+  auto& slot = cache[size_t(k)];
+  if (!slot) {
+    slot.emplace();
+    for (size_t i = 0; i < count; ++i)
+      if (depends(i)) slot->push_back(int(i));
+  }
+  return *slot;
 }
 }  // namespace
 
@@ -138,36 +155,19 @@ bool Assembler::constraintParameterDerivative(const Constraint& co, const LocalS
 }
 
 const std::vector<int>& Assembler::elementsDependingOn(int k, const VecX& q, const VecX& v, const VecX& p) const {
-  if (size_t(k) >= paramElementsKnown_.size()) {
-    paramElementsKnown_.resize(size_t(k) + 1, 0);
-    paramElements_.resize(size_t(k) + 1);
-  }
-  if (!paramElementsKnown_[size_t(k)]) {
-    VecX dQ;
-    MatX dM;
-    auto& list = paramElements_[size_t(k)];
-    for (size_t e = 0; e < model_.elements.size(); ++e)
-      if (elementParameterDerivative(*model_.elements[e], elementState(e, q, v, p), k, dQ, dM)) list.push_back(int(e));
-    paramElementsKnown_[size_t(k)] = 1;
-  }
-  return paramElements_[size_t(k)];
+  VecX dQ;
+  MatX dM;
+  return dependentsOf(paramElements_, k, model_.elements.size(), [&](size_t e) {
+    return elementParameterDerivative(*model_.elements[e], elementState(e, q, v, p), k, dQ, dM);
+  });
 }
 
 const std::vector<int>& Assembler::constraintsDependingOn(int k, const VecX& q, const VecX& p) const {
-  if (size_t(k) >= paramConstraintsKnown_.size()) {
-    paramConstraintsKnown_.resize(size_t(k) + 1, 0);
-    paramConstraints_.resize(size_t(k) + 1);
-  }
-  if (!paramConstraintsKnown_[size_t(k)]) {
-    VecX dphi;
-    MatX dJ;
-    auto& list = paramConstraints_[size_t(k)];
-    for (size_t c = 0; c < cons_.size(); ++c)
-      if (constraintParameterDerivative(*cons_[c], constraintState(c, q, VecX(), p), k, dphi, dJ))
-        list.push_back(int(c));
-    paramConstraintsKnown_[size_t(k)] = 1;
-  }
-  return paramConstraints_[size_t(k)];
+  VecX dphi;
+  MatX dJ;
+  return dependentsOf(paramConstraints_, k, cons_.size(), [&](size_t c) {
+    return constraintParameterDerivative(*cons_[c], constraintState(c, q, VecX(), p), k, dphi, dJ);
+  });
 }
 
 // ----------------------------------------------------------------------------- vectors

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -173,8 +174,7 @@ class Assembler {
   /// visit only those, not every element once per parameter and step.
   const std::vector<int>& elementsDependingOn(int k, const VecX& q, const VecX& v, const VecX& p) const;
   const std::vector<int>& constraintsDependingOn(int k, const VecX& q, const VecX& p) const;
-  mutable std::vector<std::vector<int>> paramElements_, paramConstraints_;
-  mutable std::vector<char> paramElementsKnown_, paramConstraintsKnown_;
+  mutable std::vector<std::optional<std::vector<int>>> paramElements_, paramConstraints_;  ///< by k
   bool gravityBound_ = false;
   mutable double loadFactor_ = 1.0;
   mutable double time_ = 0.0;

@@ -429,30 +429,30 @@ IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWit
   // 1e-10 reference by 0.7 s). Tried: the norm taken apart over dq/dp and dv/dp and over the
   // tested components only (7.6e-6 off at 0.7 s), but then SAT1 stopped again, at 6.12 s.
   // Updated before every step from the sensitivities reached (one pass over them).
-  std::vector<VectorPtr> atolS;
-  std::vector<N_Vector> atolSRaw, ySNow;
+  const bool normwise = Ns > 0 && set.sensitivityTolerance == "normwise";
+  std::vector<VectorPtr> atolS, ySNow;  // the absolute tolerances set, the sensitivities reached
+  std::vector<N_Vector> atolSRaw, ySNowRaw;
+  for (int k = 0; normwise && k < Ns; ++k) {
+    atolS.emplace_back(N_VNew_Serial(N, ctx.get()));
+    atolSRaw.push_back(atolS.back().get());
+    ySNow.emplace_back(N_VNew_Serial(N, ctx.get()));
+    ySNowRaw.push_back(ySNow.back().get());
+  }
   auto updateSensitivityTolerances = [&](double tNow) {
-    if (Ns == 0 || set.sensitivityTolerance != "normwise") return;
-    if (atolS.empty())
-      for (int k = 0; k < Ns; ++k) {
-        atolS.emplace_back(N_VNew_Serial(N, ctx.get()));
-        atolSRaw.push_back(atolS.back().get());
-        ySNow.push_back(N_VNew_Serial(N, ctx.get()));
-      }
+    if (!normwise) return;
     double tS = tNow;
     if (tNow == start.x.t)
-      for (int k = 0; k < Ns; ++k) N_VScale(1.0, yS[size_t(k)], ySNow[size_t(k)]);
+      for (int k = 0; k < Ns; ++k) N_VScale(1.0, yS[size_t(k)], ySNowRaw[size_t(k)]);
     else
-      check(IDAGetSens(ida, &tS, ySNow.data()), "IDAGetSens", pb, tNow);
+      check(IDAGetSens(ida, &tS, ySNowRaw.data()), "IDAGetSens", pb, tNow);
     const auto atolY = view(atolv.get());
     for (int k = 0; k < Ns; ++k) {
-      const double floor = set.rtol * view(ySNow[size_t(k)]).head(2 * n).lpNorm<Eigen::Infinity>();
+      const double floor = set.rtol * view(ySNowRaw[size_t(k)]).head(2 * n).lpNorm<Eigen::Infinity>();
       auto a = view(atolSRaw[size_t(k)]);
       for (int i = 0; i < N; ++i) a[i] = atolY[i] >= kUntestedTolerance ? atolY[i] : std::max(atolY[i], floor);
     }
     check(IDASensSVtolerances(ida, set.rtol, atolSRaw.data()), "IDASensSVtolerances", pb, tNow);
   };
-  struct SensGuard { std::vector<N_Vector>& v; ~SensGuard() { for (auto x : v) N_VDestroy(x); } } sensGuard{ySNow};
   updateSensitivityTolerances(t);
 
   IntegratorStats st;
