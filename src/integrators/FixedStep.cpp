@@ -1,5 +1,6 @@
 #include "integrators/FixedStep.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -102,6 +103,10 @@ constexpr double kRefreshRate = 0.5;
 /// (inf-norms) to reach, and the applications of the LU allowed before A is factorized.
 constexpr double kSensitivityBackwardError = 1e-13;
 constexpr int kSensitivitySolves = 12;
+/// A failure message names the growth of the accelerations when the last step's |a|_inf
+/// exceeds this multiple of the largest over the first kEarlySteps steps.
+constexpr double kAccelerationGrowth = 100.0;
+constexpr long kEarlySteps = 50;
 
 /// The Newton matrix at q_{n+1} = q, with the forces at their scheme point (qf, vf).
 SpMat newtonMatrix(const Assembler& as, SparseAccumulator& acc, const VecX& q, const VecX& qf, const VecX& vf,
@@ -137,6 +142,21 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   long gmresSolves = 0, gmresColumns = 0;  // sensitivity solves by GMRES: LU applications, columns
   double factoredCa = 0.0;  // the scheme coefficient of the matrix in lu (h changed: refresh)
   const bool modified = set.newton == "modified";  // else full Newton
+  // Growth of the accelerations, for the failure message: the trapezoidal rule (generalized-
+  // alpha at rho_inf 1) carries a_n+1 = 4 (q_n+1 - q_n) / h^2 - 4 v_n / h - a_n undamped, and
+  // along the constraint directions nothing else holds it; with nonlinear constraints that
+  // part grows (massless satellite, dt 1e-3 s: |a|_inf 3e3 at step 100, 1e6 at step 900)
+  // until Newton fails. Massless coordinates are left out: their a is that recurrence alone.
+  const std::vector<int> massless = masslessCoordinates(as, p);
+  std::vector<char> counted(size_t(n), 1);
+  for (int i : massless) counted[size_t(i)] = 0;
+  auto largestAcceleration = [&](const VecX& a, int& where) {
+    double r = 0.0;
+    for (int i = 0; i < n; ++i)
+      if (counted[size_t(i)] && std::abs(a[i]) > r) r = std::abs(a[i]), where = i;
+    return r;
+  };
+  double aEarly = 0.0;  // largest |a|_inf over the first kEarlySteps steps
   // A step starts with the matrix of an earlier step unless that failed lately: after a
   // failure the next `skipReuse` steps start with a fresh matrix, twice as many each time.
   int skipReuse = 0, backoff = 1;
@@ -330,6 +350,19 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
          << " m, residual " << lastResidual << "); try a smaller --dt"
          << (set.type == "generalized_alpha" ? ", a smaller rho_inf (more damping)" : "")
          << " or a looser newton_tol";
+      int where = -1;
+      const double aLast = largestAcceleration(old.a, where);
+      if (aEarly > 0.0 && aLast > kAccelerationGrowth * aEarly) {
+        os << "; the accelerations grew from |a|_inf = " << aEarly << " (first " << kEarlySteps << " steps) to "
+           << aLast << " at the last step (in " << as.model().coordinateLabel(where) << "): ";
+        if (sc.trapezoidal || (set.type == "generalized_alpha" && set.rhoInf >= 1.0))
+          os << "this scheme leaves the accelerations along the constraint directions undamped and nonlinear "
+                "constraints make them grow; use generalized_alpha with rho_inf < 1, "
+                "which damps them";
+        else
+          os << "an unresolved mode or the constraint directions gained energy; try more damping (generalized_alpha "
+                "with a smaller rho_inf) or a smaller dt";
+      }
       throw NumericalError(os.str());
     }
     State next;
@@ -437,6 +470,10 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         d.a = sc.ca * d.q + hist.col(k).head(n);
         d.pseudoAcc = sc.nextPseudo(cur.dp[size_t(k)], d.a);
       }
+    }
+    if (step <= kEarlySteps) {
+      int where = -1;
+      aEarly = std::max(aEarly, largestAcceleration(next.a, where));
     }
     cur.x = std::move(next);
     cur.dp = std::move(dnext);
