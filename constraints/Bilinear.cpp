@@ -6,7 +6,9 @@ namespace flexsens {
 
 template <class T>
 VecT<T> BilinearConstraint::phiT(const LocalState&, const VecT<T>& x, const VecT<T>&) const {
-  VecT<T> a = N_.cast<T>() * x, b = W_.cast<T>() * x;
+  // Fixed-size 3-vectors: no heap traffic per call (the satellite evaluates ~80 of these per
+  // Newton iteration).
+  Eigen::Matrix<T, 3, 1> a = N_.cast<T>() * x, b = W_.cast<T>() * x;
   for (int i = 0; i < 3; ++i) {
     a[i] += a0_[i];
     b[i] += b0_[i];
@@ -18,7 +20,10 @@ VecT<T> BilinearConstraint::phiT(const LocalState&, const VecT<T>& x, const VecT
 
 void BilinearConstraint::jacobian(const LocalState& s, MatX& J) const {
   // d/dx [(N x + a0) . (W x + b0)] = (W x + b0)^T N + (N x + a0)^T W
-  J = (W_ * s.x + b0_).transpose() * N_ + (N_ * s.x + a0_).transpose() * W_;
+  const Eigen::Vector3d a = N_ * s.x + a0_, b = W_ * s.x + b0_;
+  J.resize(1, N_.cols());
+  J.noalias() = b.transpose() * N_;
+  J.noalias() += a.transpose() * W_;
 }
 
 std::unique_ptr<BilinearConstraint> BilinearConstraint::perpendicular(std::string name, std::vector<int> nodes,
