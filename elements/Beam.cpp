@@ -40,8 +40,12 @@ std::vector<std::pair<std::string, Quantity*>> BeamSection::properties() {
 }
 
 namespace {
-VecX gravityOf(const LocalState& s) {
-  return s.gravity ? VecX(*s.gravity) : VecX(VecX::Zero(s.dim));
+/// Vectors and matrices of the segment's dimension d = 2 or 3, on the stack (no heap traffic
+/// in the per-segment kernels, which run for every segment at every Newton matrix).
+using VecD = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+using MatD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+VecD gravityOf(const LocalState& s) {
+  return s.gravity ? VecD(*s.gravity) : VecD(VecD::Zero(s.dim));
 }
 }  // namespace
 
@@ -56,7 +60,7 @@ BeamSegment::BeamSegment(std::string name, std::vector<int> nodes,
 
 namespace {
 /// Unit axis n and current length l of a segment; throws on bad dim or zero length.
-double segmentAxis(const Element& e, const LocalState& s, VecX& n) {
+double segmentAxis(const Element& e, const LocalState& s, VecD& n) {
   if (s.dim != 2 && s.dim != 3) throw std::invalid_argument("beam_segment " + e.name() + ": dim must be 2 or 3");
   n = s.x.segment(s.dim, s.dim) - s.x.segment(0, s.dim);
   const double l = n.norm();
@@ -86,7 +90,7 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   using std::sqrt;
   if (s.dim != 2 && s.dim != 3) throw std::invalid_argument("beam_segment " + name() + ": dim must be 2 or 3");
   const int d = s.dim;
-  VecT<T> n = x.segment(d, d) - x.segment(0, d);
+  Eigen::Matrix<T, Eigen::Dynamic, 1, 0, 3, 1> n = x.segment(d, d) - x.segment(0, d);  // on the stack
   const T l = sqrt(n.squaredNorm());
   if (!(ad::valueOf(l) > 0.0)) throw NumericalError("beam_segment " + name() + ": zero current length");
   n /= l;                                             // unit axis
@@ -94,7 +98,7 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   const T EA = props[0] * A, rhoA = props[1] * A;
   const T N = EA * (l - L_) / L_;                     // axial force dU/dl [N]
   const T w = 0.5 * rhoA * L_;                        // nodal mass [kg]
-  const VecX g = gravityOf(s);
+  const VecD g = gravityOf(s);
   VecT<T> Q(2 * d);
   for (int i = 0; i < d; ++i) {
     Q[i] = N * n[i] + w * g[i];
@@ -104,13 +108,13 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
 }
 
 void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  VecX n;
+  VecD n;
   const double l = segmentAxis(*this, s, n);
   const int d = s.dim;
   const double EA = sec_->EA(*s.p), N = EA * (l - L_) / L_;
   // K = d(N n)/d(x_b - x_a) = (EA/L) n n^T + (N/l)(I - n n^T)   [N/m]
-  const MatX nn = n * n.transpose();
-  const MatX K = (EA / L_) * nn + (N / l) * (MatX::Identity(d, d) - nn);
+  const MatD nn = n * n.transpose();
+  const MatD K = (EA / L_) * nn + (N / l) * (MatD::Identity(d, d) - nn);
   dQdq.resize(2 * d, 2 * d);
   dQdq << -K, K, K, -K;
   dQdv.setZero(2 * d, 2 * d);
@@ -118,12 +122,12 @@ void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) con
 
 bool BeamSegment::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   if (!sec_->axialDependsOn(k)) return false;
-  VecX n;
+  VecD n;
   const double l = segmentAxis(*this, s, n);
   const int d = s.dim;
   const double dN = sec_->dEA(*s.p, k) * (l - L_) / L_;
   const double drhoA = sec_->drhoA(*s.p, k);
-  const VecX dG = 0.5 * drhoA * L_ * gravityOf(s);
+  const VecD dG = 0.5 * drhoA * L_ * gravityOf(s);
   dQ.resize(2 * d);
   dQ.head(d) = dN * n + dG;
   dQ.tail(d) = -dN * n + dG;
@@ -137,12 +141,12 @@ bool BeamSegment::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX
 }
 
 double BeamSegment::potential(const LocalState& s) const {
-  VecX n;
+  VecD n;
   const double l = segmentAxis(*this, s, n);
   const int d = s.dim;
   const double eps = (l - L_) / L_;
   const double mNode = 0.5 * sec_->rhoA(*s.p) * L_;
-  const VecX g = gravityOf(s);
+  const VecX g = gravityOf(s);  // (dynamic: the stack-sized one trips GCC 12's -Warray-bounds in the dot below)
   // elastic energy minus work of gravity: U - sum m_node g . x_i  [J]
   return 0.5 * sec_->EA(*s.p) * L_ * eps * eps -
          mNode * g.dot(s.x.segment(0, d) + s.x.segment(d, d));
