@@ -128,7 +128,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   const int n = as.n(), m = as.m();
   const double h = set.dt;
   const Scheme sc(set);
-  if (sc.midpoint && !masslessCoordinates(as, p).empty())  // their equilibrium at the midpoint oscillates
+  const std::vector<int> massless = masslessCoordinates(as, p);
+  if (sc.midpoint && !massless.empty())  // their equilibrium at the midpoint oscillates
     throw InputError("integrator midpoint: the model has massless parts (inertia: none), whose equilibrium "
                      "the midpoint rule would hold at the mid-step, leaving the end state to oscillate; use "
                      "trapezoidal, bdf1, generalized_alpha or idas");
@@ -147,7 +148,6 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   // along the constraint directions nothing else holds it; with nonlinear constraints that
   // part grows (massless satellite, dt 1e-3 s: |a|_inf 3e3 at step 100, 1e6 at step 900)
   // until Newton fails. Massless coordinates are left out: their a is that recurrence alone.
-  const std::vector<int> massless = masslessCoordinates(as, p);
   std::vector<char> counted(size_t(n), 1);
   for (int i : massless) counted[size_t(i)] = 0;
   auto largestAcceleration = [&](const VecX& a, int& where) {
