@@ -366,16 +366,22 @@ double Assembler::potentialEnergy(const VecX& q, const VecX& p) const {
 }
 
 // ----------------------------------------------------------------------------- blocks
-void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0,
-                        int64_t c0) const {
-  MatX Ml;
+const std::vector<MatX>& Assembler::elementMasses(const VecX& p) const {
+  if (massesAt_ && massesAt_->size() == p.size() && *massesAt_ == p) return masses_;
   const VecX none;
   const VecX q0 = model_.initialPositions();  // mass is configuration independent
-  for (size_t e = 0; e < model_.elements.size(); ++e) {
-    const auto& el = *model_.elements[e];
-    const LocalState& ls = elementState(e, q0, none, p);
-    if (el.mass(ls, Ml)) acc.addBlock(elemDofs_[e], elemDofs_[e], Ml, s, r0, c0);
-  }
+  masses_.assign(model_.elements.size(), MatX());
+  for (size_t e = 0; e < model_.elements.size(); ++e)
+    if (!model_.elements[e]->mass(elementState(e, q0, none, p), masses_[e])) masses_[e].resize(0, 0);
+  massesAt_ = p;
+  return masses_;
+}
+
+void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0,
+                        int64_t c0) const {
+  const std::vector<MatX>& masses = elementMasses(p);
+  for (size_t e = 0; e < model_.elements.size(); ++e)
+    if (masses[e].size()) acc.addBlock(elemDofs_[e], elemDofs_[e], masses[e], s, r0, c0);
 }
 
 void Assembler::addForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v,
@@ -407,16 +413,15 @@ void Assembler::addForceJacobians(SparseAccumulator& kq, SparseAccumulator& kv,
 void Assembler::addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v,
                                         const VecX& p, double sm, double sq, double sv, int64_t r0,
                                         int64_t c0) const {
-  MatX Kq, Kv, Ml;
-  const VecX none;
-  const VecX q0 = model_.initialPositions();  // mass is configuration independent
+  MatX Kq, Kv;
+  const std::vector<MatX>* masses = sm != 0.0 ? &elementMasses(p) : nullptr;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     Kq *= -sq * lf;
     if (sv != 0.0) Kq -= (sv * lf) * Kv;
-    if (sm != 0.0 && el.mass(elementState(e, q0, none, p), Ml)) Kq += sm * Ml;
+    if (masses && (*masses)[e].size()) Kq += sm * (*masses)[e];
     acc.addBlock(elemDofs_[e], elemDofs_[e], Kq, 1.0, r0, c0);
   }
 }
