@@ -227,10 +227,11 @@ VecT<T> BeamHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
 
 void BeamHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecX g;
-  MatX H;
-  const double dphi = deviation(s, &g, &H);
-  // Hess U = k_b (g g^T + (phi - phi0) Hess phi), k_b = EI / D [N m]
-  dQdq = -(sec_->EI(*s.p) / D_) * (g * g.transpose() + dphi * H);
+  const double dphi = deviation(s, &g, &dQdq);  // Hess phi, in dQdq's storage (no temporaries)
+  // dQ/dq = -Hess U = -k_b (g g^T + (phi - phi0) Hess phi), k_b = EI / D [N m]
+  const double kb = sec_->EI(*s.p) / D_;
+  dQdq *= -kb * dphi;
+  dQdq.noalias() -= kb * (g * g.transpose());
   dQdv.setZero(6, 6);
 }
 
