@@ -88,9 +88,7 @@ class Assembler {
   /// Power [W] of the forces the potential does not hold, v . (Q(q, v) - conservativeForce):
   /// dampers and loads that do external work, at time(). With the drivers' lambda^T Phi_t it
   /// is dE/dt, E = T + V: the energy audit integrates it.
-  double nonConservativePower(const VecX& q, const VecX& v, const VecX& p) const {
-    return v.dot(force(q, v, p) - conservativeForce(q, p));
-  }
+  double nonConservativePower(const VecX& q, const VecX& v, const VecX& p) const;
 
   // --- sparse blocks, added as s * block at (r0, c0) ------------------------------------
   void addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0, int64_t c0) const;
