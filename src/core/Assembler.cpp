@@ -384,8 +384,8 @@ SpMat Assembler::mass(const VecX& p) const {
 }
 
 double Assembler::potentialEnergy(const VecX& q, const VecX& p) const {
-  double U = 0.0;
-  for (const auto& el : model_.elements) U += el->potential(localState(*el, q, VecX(), p));
+  double U = 0.0;  // (each element's state in its scratch: no allocation per element and step)
+  for (size_t e = 0; e < model_.elements.size(); ++e) U += model_.elements[e]->potential(elementState(e, q, VecX(), p));
   return U;
 }
 
