@@ -397,8 +397,27 @@ const std::vector<MatX>& Assembler::elementMasses(const VecX& p) const {
   masses_.assign(model_.elements.size(), MatX());
   for (size_t e = 0; e < model_.elements.size(); ++e)
     if (!model_.elements[e]->mass(elementState(e, q0, none, p), masses_[e])) masses_[e].resize(0, 0);
+  massDerivatives_.clear();  // of the previous p
   massesAt_ = p;
   return masses_;
+}
+
+const std::vector<std::pair<int, MatX>>& Assembler::elementMassDerivatives(const VecX& p, int k) const {
+  elementMasses(p);  // keyed to the same p
+  if (massDerivatives_.size() <= size_t(k)) massDerivatives_.resize(size_t(k) + 1);
+  auto& slot = massDerivatives_[size_t(k)];
+  if (slot) return *slot;
+  slot.emplace();
+  VecX dQ;
+  MatX dM;
+  const VecX q0 = model_.initialPositions();
+  for (int e : elementsDependingOn(k, q0, VecX(), p)) {
+    const auto& el = *model_.elements[size_t(e)];
+    if (elementParameterDerivative(el, elementState(size_t(e), q0, VecX(), p), k, dQ, dM) && dM.size() &&
+        !dM.isZero(0.0))
+      slot->emplace_back(e, dM);
+  }
+  return *slot;
 }
 
 void Assembler::addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0,
@@ -543,14 +562,8 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
 
 VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) const {
   VecX r = VecX::Zero(n());
-  VecX dQ;
-  MatX dM;
-  const VecX q0 = model_.initialPositions();
-  for (int e : elementsDependingOn(k, q0, VecX(), p)) {
-    const auto& el = *model_.elements[size_t(e)];
-    if (!elementParameterDerivative(el, elementState(size_t(e), q0, VecX(), p), k, dQ, dM)) continue;
-    if (dM.size() == 0) continue;
-    const auto& map = elemDofs_[e];
+  for (const auto& [e, dM] : elementMassDerivatives(p, k)) {
+    const auto& map = elemDofs_[size_t(e)];
     const VecX g = dM * gather(map, a);
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) r[map[i]] += g[i];

@@ -178,7 +178,12 @@ class Assembler {
   /// each Newton matrix used to evaluate every element's again (flexible five-bar: 3% of a run).
   const std::vector<MatX>& elementMasses(const VecX& p) const;
   mutable std::vector<MatX> masses_;
-  mutable std::optional<VecX> massesAt_;  ///< the p of masses_
+  mutable std::optional<VecX> massesAt_;  ///< the p of masses_ and massDerivatives_
+  /// dM_e/dp_k of the elements whose mass depends on p_k, kept like masses_ (the sensitivity
+  /// right-hand sides asked for them at every step and parameter: 8% of the five-bar's run
+  /// with ten parameters).
+  const std::vector<std::pair<int, MatX>>& elementMassDerivatives(const VecX& p, int k) const;
+  mutable std::vector<std::optional<std::vector<std::pair<int, MatX>>>> massDerivatives_;  ///< by k
   bool gravityBound_ = false;
   mutable double loadFactor_ = 1.0;
   mutable double time_ = 0.0;
