@@ -31,7 +31,10 @@ class Assembler {
       : Assembler(model, nullptr, derivatives) {}
   /// Derivative mode of every derivative entry point below (blocks, products, parameter
   /// derivatives); may be changed between evaluations.
-  void setDerivatives(Derivatives d) { derivatives_ = d; }
+  void setDerivatives(Derivatives d) {
+    derivatives_ = d;
+    massDerivatives_.clear();  // computed by the other mode's kernels
+  }
   Derivatives derivatives() const { return derivatives_; }
   /// Scales the applied loads (gravity and elements with isLoad()) in every force entry point
   /// below: the static solver's load factor in (0, 1]; 1 for dynamics.
