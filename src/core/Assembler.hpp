@@ -139,6 +139,10 @@ class Assembler {
   const LocalState& elementState(size_t e, const VecX& q, const VecX& v, const VecX& p) const;
   const LocalState& constraintState(size_t c, const VecX& q, const VecX& v, const VecX& p) const;
   const std::vector<int>& elementDofs(size_t e) const { return elemDofs_[e]; }
+  /// The element mass matrices at p (empty: no mass), kept while p stays the same: mass is
+  /// configuration independent (the integrators assemble M once per run on that premise), and
+  /// each Newton matrix used to evaluate every element's again (flexible five-bar: 3% of a run).
+  const std::vector<MatX>& elementMasses(const VecX& p) const;
   const std::vector<int>& constraintDofs(size_t c) const { return consDofs_[c]; }
   int constraintRow(size_t c) const { return consRow_[c]; }
 
@@ -176,10 +180,6 @@ class Assembler {
   const std::vector<int>& elementsDependingOn(int k, const VecX& q, const VecX& v, const VecX& p) const;
   const std::vector<int>& constraintsDependingOn(int k, const VecX& q, const VecX& p) const;
   mutable std::vector<std::optional<std::vector<int>>> paramElements_, paramConstraints_;  ///< by k
-  /// The element mass matrices at p (empty: no mass), kept while p stays the same: mass is
-  /// configuration independent (the integrators assemble M once per run on that premise), and
-  /// each Newton matrix used to evaluate every element's again (flexible five-bar: 3% of a run).
-  const std::vector<MatX>& elementMasses(const VecX& p) const;
   mutable std::vector<MatX> masses_;
   mutable std::optional<VecX> massesAt_;  ///< the p of masses_ and massDerivatives_
   /// dM_e/dp_k of the elements whose mass depends on p_k, kept like masses_ (the sensitivity

@@ -111,11 +111,9 @@ std::vector<int> masslessCoordinates(const Assembler& as, const VecX& p) {
   // constraints and keep their usual treatment.
   std::vector<char> ofMasslessPart(as.n(), 0);
   bool any = false;
-  MatX Me;
-  const VecX q0 = as.model().initialPositions();
-  for (size_t e = 0; e < as.model().elements.size(); ++e) {
-    const Element& el = *as.model().elements[e];
-    if (!el.mass(as.localState(el, q0, VecX(), p), Me) || !Me.isZero(0.0)) continue;
+  const std::vector<MatX>& masses = as.elementMasses(p);  // empty: the element has no mass matrix
+  for (size_t e = 0; e < masses.size(); ++e) {
+    if (masses[e].size() == 0 || !masses[e].isZero(0.0)) continue;
     any = true;
     for (int i : as.elementDofs(e))
       if (i >= 0) ofMasslessPart[i] = 1;
