@@ -46,6 +46,10 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     if (!isNewtonMode(*opt.newton)) throw InputError("option --newton: expected full or modified, got '" + *opt.newton + "'");
     s.newton = *opt.newton;
   }
+  if (opt.projections) s.projections = *opt.projections;
+  if (s.projections && s.type != "trapezoidal" && s.type != "generalized_alpha")
+    throw InputError("projections (--projections on, integrator.projections) apply to the trapezoidal rule and "
+                     "generalized_alpha, not to " + s.type);
   if (opt.rtol) {
     if (!(*opt.rtol > 0)) throw InputError("option --rtol: expected a positive relative tolerance");
     s.rtol = *opt.rtol;
@@ -184,7 +188,8 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
   js << "  \"integrator\": {\"type\": " << jsonString(sc.integrator.type)
      << ", \"t_end\": " << jsonNumber(sc.integrator.tEnd) << ", \"dt\": " << jsonNumber(sc.integrator.dt)
      << ", \"rtol\": " << jsonNumber(sc.integrator.rtol) << ", \"atol\": " << jsonNumber(sc.integrator.atol)
-     << ", \"newton\": " << jsonString(sc.integrator.newton) << "},\n";
+     << ", \"newton\": " << jsonString(sc.integrator.newton)
+     << ", \"projections\": " << (sc.integrator.projections ? "true" : "false") << "},\n";
   js << "  \"n\": " << m.n << ", \"m\": " << m.m << ", \"d\": " << m.n - m.m << ",\n";
   js << "  \"coordinates\": [";
   for (int i = 0; i < m.n; ++i) js << (i ? ", " : "") << jsonString(m.coordinateLabel(i));

@@ -17,6 +17,7 @@ struct RunOptions {
   std::optional<double> tEnd, dt;
   std::optional<double> rhoInf, rtol;  ///< generalized_alpha rho_inf; IDAS relative tolerance
   std::optional<std::string> newton;  ///< fixed-step Newton: full | modified
+  std::optional<bool> projections;    ///< trapezoidal / generalized-alpha: project v and a
   std::optional<std::string> method;  ///< dd | dq | nd
   std::optional<double> ndStep;
   std::optional<std::string> ndScheme;

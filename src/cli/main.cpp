@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
   double rhoInf = 0, rtol = 0;
   run->add_option("--rho-inf", rhoInf, "generalized_alpha: spectral radius at infinity, 0..1 (default 0.9; 1 = no dissipation)");
   run->add_option("--rtol", rtol, "IDAS relative tolerance");
-  std::string newtonMode;
+  std::string newtonMode, projections;
+  run->add_option("--projections", projections, "trapezoidal / generalized_alpha: on projects each step's velocities and accelerations onto the constraints (default off)")->check(CLI::IsMember({"on", "off"}));
   run->add_option("--newton", newtonMode, "fixed-step Newton: full (factorizes every iteration, default) | modified (keeps the factorization while the iteration contracts fast)");
   std::string method, ndScheme;
   double ndStep = 0;
@@ -181,6 +182,7 @@ int main(int argc, char** argv) {
     if (run->count("--rho-inf")) opt.rhoInf = rhoInf;
     if (run->count("--rtol")) opt.rtol = rtol;
     if (!newtonMode.empty()) opt.newton = newtonMode;
+    if (!projections.empty()) opt.projections = projections == "on";
     if (!outDir.empty()) opt.outDir = outDir;
     if (!method.empty()) opt.method = method;
     if (run->count("--nd-step")) opt.ndStep = ndStep;

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "core/PreconditionedSolve.hpp"
 #include "core/SparseLU.hpp"
 #include "integrators/InitialState.hpp"
+#include "integrators/MotionProjection.hpp"
 #include "integrators/StepEnd.hpp"
 #include "integrators/TimeGrid.hpp"
 
@@ -137,6 +139,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   const long nsteps = fixedStepCount(set.tEnd - cur.x.t, h);
   const long every = frameEvery(set);
   const SpMat M = as.mass(p);
+  // Velocity and acceleration projections (trapezoidal rule, generalized-alpha), on request.
+  std::unique_ptr<MotionProjection> projection;
+  if (set.projections) projection = std::make_unique<MotionProjection>(as, p, massless);
   IntegratorStats st;
   SparseAccumulator acc, kv;
   SparseLU lu;  // modified Newton: kept across iterations and steps
@@ -371,6 +376,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     next.a = sc.ca * (q - old.q) + abar;
     next.v = sc.cv * (q - old.q) + vbar;
     next.lambda = lt / sigma;
+    const VecX aScheme = next.a;  // the step's equations hold with this one
+    if (projection) projection->project(next, step);
     next.pseudoAcc = sc.nextPseudo(old, next.a);
     if (!next.q.allFinite() || !next.v.allFinite() || !next.lambda.allFinite()) {
       std::ostringstream os;
@@ -410,7 +417,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
           forceTerm += dQdv * vh;
-        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), next.a) + M * ah - forceTerm) +
+        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), aScheme) + M * ah - forceTerm) +
                              as.phiQParamDerivativeTransposeTimes(q, p, int(k), lt));
         if (m) X.col(k).tail(m) = -as.phiParamDerivative(q, p, int(k));
         hist.col(k) << ah, vh;
@@ -468,6 +475,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         d.lambda = X.col(k).tail(m) / sigma;
         d.v = sc.cv * d.q + hist.col(k).tail(n);
         d.a = sc.ca * d.q + hist.col(k).head(n);
+        if (projection) projection->sensitivity(next, int(k), d);
         d.pseudoAcc = sc.nextPseudo(cur.dp[size_t(k)], d.a);
       }
     }

@@ -21,6 +21,11 @@ struct IntegratorSettings {
   /// contracts slowly. Full is the default: modified leaves an error of up to the tolerance
   /// where full Newton's quadratic convergence leaves round-off (see README).
   std::string newton = "full";
+  /// Trapezoidal rule and generalized-alpha: project each step's velocities and accelerations
+  /// onto the velocity and acceleration constraints (integrators/MotionProjection.hpp). Off by
+  /// default: the index-3 schemes as published; on, the trapezoidal rule runs models whose
+  /// nonlinear constraints make its undamped constraint-direction parts grow.
+  bool projections = false;
   double frameInterval = 0.01; ///< time between output frames [s]
   bool sensitivityErrorControl = true;  ///< IDAS: sensitivities in the error test
   /// IDAS: how the sensitivities are corrected. "staggered": after the state's corrector has

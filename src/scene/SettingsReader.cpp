@@ -20,7 +20,7 @@ void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSe
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s) {
   r.allowKeys(in, "integrator", {"type", "t_end", "dt", "rtol", "atol", "newton_tol",
                                  "max_newton_iterations", "frame_interval", "sensitivity_error_control",
-                                 "sensitivity_corrector", "sensitivity_tolerance", "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton"});
+                                 "sensitivity_corrector", "sensitivity_tolerance", "rho_inf", "energy_tolerance", "energy_loss_tolerance", "newton", "projections"});
   s.type = r.text(r.require(in, "type", "integrator"), "integrator.type");
   if (!isIntegratorType(s.type))
     r.fail(in["type"], "integrator.type", std::string("expected ") + kIntegratorTypes + ", got '" + s.type + "'");
@@ -46,6 +46,12 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
     s.newton = r.text(in["newton"], "integrator.newton");
     if (!isNewtonMode(s.newton))
       r.fail(in["newton"], "integrator.newton", "expected full or modified, got '" + s.newton + "'");
+  }
+  if (in["projections"]) {
+    s.projections = r.boolean(in["projections"], "integrator.projections");
+    if (s.projections && s.type != "trapezoidal" && s.type != "generalized_alpha")
+      r.fail(in["projections"], "integrator.projections",
+             "projections apply to the trapezoidal rule and generalized_alpha, not to " + s.type);
   }
   if (in["energy_tolerance"]) s.energyTolerance = r.nonNegative(in["energy_tolerance"], "integrator.energy_tolerance");
   if (in["energy_loss_tolerance"])
