@@ -362,8 +362,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
            << aLast << " at the last step (in " << as.model().coordinateLabel(where) << "): ";
         if (sc.trapezoidal || (set.type == "generalized_alpha" && set.rhoInf >= 1.0))
           os << "this scheme leaves the accelerations along the constraint directions undamped and nonlinear "
-                "constraints make them grow; use generalized_alpha with rho_inf < 1, "
-                "which damps them";
+                "constraints make them grow; project them (integrator.projections: true, --projections on) or "
+                "use generalized_alpha with rho_inf < 1, which damps them";
         else
           os << "an unresolved mode or the constraint directions gained energy; try more damping (generalized_alpha "
                 "with a smaller rho_inf) or a smaller dt";
@@ -376,7 +376,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     next.a = sc.ca * (q - old.q) + abar;
     next.v = sc.cv * (q - old.q) + vbar;
     next.lambda = lt / sigma;
-    const VecX aScheme = next.a;  // the step's equations hold with this one
+    // The step's equations hold with the scheme's a and v; the projections change them after.
+    const VecX aScheme = projection ? next.a : VecX(), vScheme = projection ? next.v : VecX();
     if (projection) projection->project(next, step);
     next.pseudoAcc = sc.nextPseudo(old, next.a);
     if (!next.q.allFinite() || !next.v.allFinite() || !next.lambda.allFinite()) {
@@ -391,7 +392,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       // Exact derivative of the discrete step: A(q_{n+1}) dx/dp = -dr/dp at fixed q_{n+1}, with
       // the Newton matrix at the converged point; one right-hand side per parameter.
       const VecX& qf = sc.forcePoint(q, old.q, qfBuf);
-      const VecX& vf = sc.forcePoint(next.v, old.v, vfBuf);
+      const VecX& vf = sc.forcePoint(projection ? vScheme : next.v, old.v, vfBuf);
       const SpMat& A = newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
       st.jacobianEvaluations++;
       kv.begin(n, n);
@@ -417,7 +418,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
           forceTerm += dQdv * vh;
-        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), aScheme) + M * ah - forceTerm) +
+        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), projection ? aScheme : next.a) + M * ah - forceTerm) +
                              as.phiQParamDerivativeTransposeTimes(q, p, int(k), lt));
         if (m) X.col(k).tail(m) = -as.phiParamDerivative(q, p, int(k));
         hist.col(k) << ah, vh;
