@@ -35,7 +35,9 @@ FIXED = [('bdf1_dt0.02', 'BDF-1, dt 0.02 s (the paper)'), ('trapezoidal_dt1e-3',
          ('ga0.99_dt1e-4', 'generalized-alpha rho_inf 0.99, dt 1e-4 s'),
          ('ga1_dt1e-3', 'generalized-alpha rho_inf 1, dt 1e-3 s'), ('ga1_dt1e-4', 'generalized-alpha rho_inf 1, dt 1e-4 s'),
          ('trapezoidal_proj_dt1e-3', 'trapezoidal with projections, dt 1e-3 s'),
-         ('trapezoidal_proj_dt1e-4', 'trapezoidal with projections, dt 1e-4 s')]
+         ('trapezoidal_proj_dt1e-4', 'trapezoidal with projections, dt 1e-4 s'),
+         ('ga1_proj_dt1e-3', 'generalized-alpha rho_inf 1 with projections, dt 1e-3 s'),
+         ('ga0.99_proj_dt1e-3', 'generalized-alpha rho_inf 0.99 with projections, dt 1e-3 s')]
 # drawn in figure12.png beside IDAS (the others are in the tables)
 PLOTTED = {'bdf1_dt0.02': 'tab:red', 'trapezoidal_dt1e-4': 'tab:blue', 'ga0.8_dt1e-3': 'tab:green',
            'ga0.99_dt1e-4': 'tab:purple', 'trapezoidal_proj_dt1e-4': 'tab:cyan'}

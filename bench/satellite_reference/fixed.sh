@@ -3,7 +3,8 @@
 # BDF-1 at dt 0.02 s, and the low-dissipation schemes (trapezoidal rule, generalized-alpha at
 # rho_inf 0.8, 0.9, 0.95, 0.99 and 1) at dt 1e-3 s, the trapezoidal rule and rho_inf 0.99 and 1
 # also at dt 1e-4 s (omega_max dt ~ 1, `flexsens modes`), and the trapezoidal rule with velocity
-# and acceleration projections (--projections on) at both steps, each for a PIM case over 10 s.
+# and acceleration projections (--projections on) at both steps, generalized-alpha at rho_inf 1 and
+# 0.99 with them at dt 1e-3 s, each for a PIM case over 10 s.
 #   bash bench/satellite_reference/fixed.sh CASE [RUN ...]   (RUN: a name below; default all)
 # Writes runs/CASE_<RUN>/ (series.csv, summary.json, cpu.txt, run.log, commit.txt) like run.sh.
 set -euo pipefail
@@ -37,3 +38,5 @@ run ga1_dt1e-4 --integrator generalized_alpha --rho-inf 1 --dt 1e-4
 run ga0.99_dt1e-4 --integrator generalized_alpha --rho-inf 0.99 --dt 1e-4
 run trapezoidal_proj_dt1e-3 --integrator trapezoidal --dt 1e-3 --projections on
 run trapezoidal_proj_dt1e-4 --integrator trapezoidal --dt 1e-4 --projections on
+run ga1_proj_dt1e-3 --integrator generalized_alpha --rho-inf 1 --dt 1e-3 --projections on
+run ga0.99_proj_dt1e-3 --integrator generalized_alpha --rho-inf 0.99 --dt 1e-3 --projections on
