@@ -54,6 +54,10 @@ void dumpIfAsked(const SpMat& A, long count) {
 }  // namespace
 
 void SparseLU::factor(const SpMat& A, const std::string& what) {
+  factor(A, [&what] { return what; });
+}
+
+void SparseLU::factor(const SpMat& A, const std::function<std::string()>& what) {
   if (!A.isCompressed()) throw std::logic_error("SparseLU::factor needs a compressed matrix");
   dumpIfAsked(A, count_);
   auto* Ap = const_cast<int64_t*>(A.outerIndexPtr());
@@ -63,7 +67,7 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
     release();
     std::vector<int64_t> perm = saddlePointOrdering(A);
     symbolic_ = klu_l_analyze_given(A.rows(), Ap, Ai, perm.data(), perm.data(), &common_);
-    if (!symbolic_) throw NumericalError("KLU could not analyse the " + what);
+    if (!symbolic_) throw NumericalError("KLU could not analyse the " + what());
     pattern_ = A;
   }
   // klu_rcond is min |u_ii| / max |u_ii|: cheap, but it can be ~1e-17 for a matrix whose
@@ -99,7 +103,7 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
   }
   if (!ok || common_.status == KLU_SINGULAR) {
     std::ostringstream os;
-    os << "the " << what << " is singular or nearly so (KLU status " << common_.status
+    os << "the " << what() << " is singular or nearly so (KLU status " << common_.status
        << ", reciprocal condition estimate " << (numeric_ ? common_.rcond : 0.0) << ")";
     if (numeric_) klu_l_free_numeric(&numeric_, &common_);
     throw NumericalError(os.str());

@@ -8,6 +8,7 @@
 
 #include <klu.h>
 
+#include <functional>
 #include <string>
 
 #include "core/Types.hpp"
@@ -26,6 +27,9 @@ class SparseLU {
 
   /// Factorizes A; `what` names the matrix in error messages (e.g. "Newton matrix at t = 0.5 s").
   void factor(const SpMat& A, const std::string& what);
+  /// The same with the name made only when needed (an error): formatting it per factorization
+  /// cost 4% of a small model's run.
+  void factor(const SpMat& A, const std::function<std::string()>& what);
   /// Solves A x = b in place (b may hold several columns), refined against A while the
   /// backward error is above kRefineAbove; `refine` false: one plain solve (a preconditioner
   /// inside an iteration that measures its own residual).

@@ -167,6 +167,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   int skipReuse = 0, backoff = 1;
   // Newton starts from q_n instead of the predictor once a step needed that (see below).
   bool startAtOld = false;
+  std::vector<State> dnext;  // the next step's sensitivities
+  MatX X, hist;              // their right-hand sides and history terms, kept across steps
+  VecX dabar, dvbar;
 
   beginRun(obs, cur);
   as.setTime(cur.x.t);
@@ -205,9 +208,12 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     double lastUpdate = 0.0, lastResidual = 0.0;
     auto factorAt = [&](const VecX& qq, const VecX& ll, const char* how) {
       const VecX v = sc.cv * (qq - old.q) + vbar;
-      std::ostringstream what;
-      what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s" << how << ")";
-      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(v, old.v, vfBuf), ll, p, sc), what.str());
+      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(v, old.v, vfBuf), ll, p, sc),
+                [&] {
+                  std::ostringstream what;
+                  what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s" << how << ")";
+                  return what.str();
+                });
       st.jacobianEvaluations++;
       factoredCa = sc.ca;
     };
@@ -387,7 +393,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       throw NumericalError(os.str());
     }
 
-    std::vector<State> dnext(cur.dp.size());
+    dnext.resize(cur.dp.size());  // the storage of two steps ago, reused (no heap traffic)
     if (!cur.dp.empty()) {
       // Exact derivative of the discrete step: A(q_{n+1}) dx/dp = -dr/dp at fixed q_{n+1}, with
       // the Newton matrix at the converged point; one right-hand side per parameter.
@@ -405,13 +411,15 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         dQdq = kv.finish();
       }
       const Eigen::Index np = Eigen::Index(cur.dp.size());
-      MatX X(n + m, np), hist(2 * n, np);  // right-hand sides -> solutions; (a, v) at fixed q_{n+1}
+      X.resize(n + m, np);  // right-hand sides -> solutions
+      hist.resize(2 * n, np);  // (a, v) at fixed q_{n+1}
       for (Eigen::Index k = 0; k < np; ++k) {
         const State& dold = cur.dp[size_t(k)];
-        VecX dabar, dvbar;
         sc.history(dold, dabar, dvbar);
-        const VecX ah = -sc.ca * dold.q + dabar;  // d a / dp at fixed q_{n+1}
-        const VecX vh = -sc.cv * dold.q + dvbar;  // d v / dp at fixed q_{n+1}
+        auto ah = hist.col(k).head(n);  // d a / dp at fixed q_{n+1}
+        auto vh = hist.col(k).tail(n);  // d v / dp at fixed q_{n+1}
+        ah = -sc.ca * dold.q + dabar;
+        vh = -sc.cv * dold.q + dvbar;
         // d(qf, vf)/dp at fixed q_{n+1}: ((1 - fw) dq_n, fw vh + (1 - fw) dv_n).
         VecX forceTerm = as.forceParamDerivative(qf, vf, p, int(k));
         if (sc.fw != 1.0)
@@ -421,9 +429,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), projection ? aScheme : next.a) + M * ah - forceTerm) +
                              as.phiQParamDerivativeTransposeTimes(q, p, int(k), lt));
         if (m) X.col(k).tail(m) = -as.phiParamDerivative(q, p, int(k));
-        hist.col(k) << ah, vh;
       }
-      const std::string what = "sensitivity matrix at t = " + std::to_string(t) + " s";
+      // Named only when factorized (formatting t every step cost 3% of a small model's run).
+      auto what = [t]() { return "sensitivity matrix at t = " + std::to_string(t) + " s"; };
       // Solved by GMRES preconditioned with the LU Newton kept (full Newton: of the last
       // iterate, next to the converged point), without a factorization; with several
       // parameters, by factoring A instead when that costs fewer flops (counts, not clocks:
@@ -485,7 +493,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       aEarly = std::max(aEarly, largestAcceleration(next.a, where));
     }
     cur.x = std::move(next);
-    cur.dp = std::move(dnext);
+    std::swap(cur.dp, dnext);
     st.steps++;
     if (m) st.maxConstraintViolation =
         std::max(st.maxConstraintViolation, as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>());

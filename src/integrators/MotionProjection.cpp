@@ -27,10 +27,12 @@ void MotionProjection::project(State& x, long step) {
     for (SpMat::InnerIterator it(weight_, c); it; ++it) acc_.add(it.row(), it.col(), it.value());
   as_.addPhiQ(acc_, x.q, p_, 1.0, 0, n, true);
   as_.addPhiQ(acc_, x.q, p_, 1.0, n, 0, false);
-  std::ostringstream what;
-  what << "projection matrix [M Phi_q^T; Phi_q 0] at t = " << x.t << " s (step " << step
-       << "; redundant constraints, or a massed coordinate the constraints fix without mass)";
-  lu_.factor(acc_.finish(), what.str());
+  lu_.factor(acc_.finish(), [&] {
+    std::ostringstream what;
+    what << "projection matrix [M Phi_q^T; Phi_q 0] at t = " << x.t << " s (step " << step
+         << "; redundant constraints, or a massed coordinate the constraints fix without mass)";
+    return what.str();
+  });
   VecX b = VecX::Zero(n + m);
   b.tail(m) = -(as_.phiQTimes(x.q, p_, x.v) + as_.phiT(x.q, p_));
   VecX s = lu_.solve(b);
