@@ -56,15 +56,21 @@ double RigidBar::potential(const LocalState& s) const {
 }
 
 // --------------------------------------------------------------------------- spring-damper
+/// Vectors and matrices of the node dimension (2 or 3) with inline storage: the kernels below
+/// run for every spring at every Newton iteration, and heap-allocated temporaries were most of
+/// their cost on a small model (flexible five-bar).
+using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3, 1>;
+using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
+
 struct SpringDamper::Geometry {
-  VecX u;       ///< unit vector from a to b
+  SmallVec u;   ///< unit vector from a to b
   double l;     ///< current length [m]
   double ldot;  ///< elongation rate [m/s]
-  VecX w;       ///< relative velocity v_b - v_a
+  SmallVec w;   ///< relative velocity v_b - v_a
   /// Coincident nodes of a spring with zero natural length and no damping: the force k dx is
   /// smooth there although its direction is not; u is then unused (zero).
   bool zeroLength = false;
-  VecX dx;      ///< x_b - x_a [m]
+  SmallVec dx;  ///< x_b - x_a [m]
 };
 
 SpringDamper::Geometry SpringDamper::geometry(const LocalState& s) const {
@@ -76,7 +82,7 @@ SpringDamper::Geometry SpringDamper::geometry(const LocalState& s) const {
   if (!(g.l > 1e-12)) {
     if (!(s.value(L0_) == 0.0 && s.value(c_) == 0.0)) coincidentNodes(g.l);
     g.zeroLength = true;
-    g.u = VecX::Zero(d);
+    g.u = SmallVec::Zero(d);
     g.ldot = 0.0;
     return g;
   }
@@ -122,15 +128,28 @@ void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) co
   const Geometry g = geometry(s);
   const double k = s.value(k_), c = s.value(c_);
   const double f = k * (g.l - s.value(L0_)) + c * g.ldot;
-  const MatX P = MatX::Identity(d, d) - g.u * g.u.transpose();
   // G = d(f u)/d(x_b - x_a), Cm = d(f u)/d(v_b - v_a); at zero length f u = k dx.
-  const MatX G = g.zeroLength ? MatX(k * MatX::Identity(d, d))
-                              : MatX(g.u * (k * g.u + c * P * g.w / g.l).transpose() + f * P / g.l);
-  const MatX Cm = c * g.u * g.u.transpose();
+  SmallMat G(d, d), Cm(d, d);
+  if (g.zeroLength) {
+    G.setIdentity();
+    G *= k;
+  } else {
+    const SmallMat P = SmallMat::Identity(d, d) - g.u * g.u.transpose();
+    const SmallVec Pw = P * g.w;
+    G.noalias() = g.u * (k * g.u + (c / g.l) * Pw).transpose();
+    G += (f / g.l) * P;
+  }
+  Cm.noalias() = c * g.u * g.u.transpose();
   dQdq.resize(2 * d, 2 * d);
-  dQdq << -G, G, G, -G;
+  dQdq.topLeftCorner(d, d) = -G;
+  dQdq.topRightCorner(d, d) = G;
+  dQdq.bottomLeftCorner(d, d) = G;
+  dQdq.bottomRightCorner(d, d) = -G;
   dQdv.resize(2 * d, 2 * d);
-  dQdv << -Cm, Cm, Cm, -Cm;
+  dQdv.topLeftCorner(d, d) = -Cm;
+  dQdv.topRightCorner(d, d) = Cm;
+  dQdv.bottomLeftCorner(d, d) = Cm;
+  dQdv.bottomRightCorner(d, d) = -Cm;
 }
 
 bool SpringDamper::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {

@@ -39,6 +39,8 @@ class SpringDamper : public KernelElement<SpringDamper> {
       : KernelElement(std::move(name), {a, b}), k_(k), c_(c), L0_(L0) {}
   std::string kind() const override { return "spring_damper"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  /// A spring with damping 0 that no parameter can change has dQ/dv = 0.
+  bool velocityDependent() const override { return c_.param >= 0 || c_.constant != 0.0; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override {

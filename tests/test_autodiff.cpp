@@ -156,6 +156,23 @@ TEST(AutoDiff, SpringDamperWithDamping) {
   }
 }
 
+TEST(AutoDiff, UndampedSpringIsVelocityIndependentUnlessItsDampingIsAParameter) {
+  // Damping a constant 0: declared velocity-independent (the assembly then skips it when only
+  // dQ/dv is wanted), and checkElement confirms dQ/dv = 0 by AD. Damping bound to a parameter
+  // whose value is 0: its dQ/dc is not zero, so it stays velocity-dependent.
+  for (int dim : {2, 3}) {
+    SpringDamper e("sd", 0, 1, Quantity{0.0, 0}, Quantity{0.0, -1}, Quantity{0.0, 1});
+    Local l(dim, randomVec(2 * dim, 7 + dim, 1.0), randomVec(2 * dim, 8 + dim, 2.0), (VecX(2) << 40.0, 0.6).finished());
+    EXPECT_FALSE(e.velocityDependent());
+    checkElement(e, l.s, 2, true, false);
+    SpringDamper b("sd", 0, 1, Quantity{0.0, 0}, Quantity{0.0, 2}, Quantity{0.0, 1});
+    Local lb(dim, randomVec(2 * dim, 7 + dim, 1.0), randomVec(2 * dim, 8 + dim, 2.0),
+             (VecX(3) << 40.0, 0.6, 0.0).finished());
+    EXPECT_TRUE(b.velocityDependent());
+    checkElement(b, lb.s, 3, true, false);  // dQ/dc = l' u, not zero, against AD
+  }
+}
+
 TEST(AutoDiff, SpringDamperPropertiesSharingAParameter) {
   // stiffness and damping bound to the same parameter: their partials add up
   SpringDamper e("sd", 0, 1, Quantity{0.0, 0}, Quantity{0.0, 0}, Quantity{0.0, 1});

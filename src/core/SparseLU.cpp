@@ -116,7 +116,11 @@ void SparseLU::solve(MatX& b, bool refine) const {
     klu_l_solve(symbolic_, numeric_, b.rows(), b.cols(), b.data(), &common_);
     return;
   }
-  MatX x = b;
+  // Workspaces kept across calls (a small model's solves were mostly allocations).
+  MatX& x = x_;
+  MatX& r = r_;
+  MatX& scale = scale_;
+  x = b;
   klu_l_solve(symbolic_, numeric_, x.rows(), x.cols(), x.data(), &common_);
   // Iterative refinement, up to twice, while the componentwise backward error
   // max_i |b - A x|_i / (|A| |x| + |b|)_i is above kRefineAbove (componentwise: the constraint
@@ -127,7 +131,8 @@ void SparseLU::solve(MatX& b, bool refine) const {
   // (test_sparse_lu: 1.6e-16 as two constraint rows become parallel). An accurate solve costs
   // one pass over A.
   for (int pass = 0; pass < 2; ++pass) {
-    MatX r = b, scale = b.cwiseAbs();  // r = b - A x, scale = |A| |x| + |b|
+    r = b;  // r = b - A x, scale = |A| |x| + |b|
+    scale = b.cwiseAbs();
     for (Eigen::Index c = 0; c < x.cols(); ++c)
       for (Eigen::Index j = 0; j < pattern_.outerSize(); ++j) {
         const double xj = x(j, c);
@@ -145,11 +150,12 @@ void SparseLU::solve(MatX& b, bool refine) const {
     klu_l_solve(symbolic_, numeric_, r.rows(), r.cols(), r.data(), &common_);
     x += r;
   }
-  b = std::move(x);
+  b = x;
 }
 
 VecX SparseLU::solve(const VecX& b, bool refine) const {
-  MatX x = b;
+  MatX& x = b_;
+  x = b;
   solve(x, refine);
   return x.col(0);
 }

@@ -62,6 +62,7 @@ class SparseLU {
   klu_l_symbolic* symbolic_ = nullptr;
   klu_l_numeric* numeric_ = nullptr;
   SpMat pattern_;  ///< the matrix factorized last (its structure is the one analysed)
+  mutable MatX b_, x_, r_, scale_;  ///< solve()'s workspaces (one thread, like common_)
   long count_ = 0;
   double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0, factorFlops_ = 0.0;
 };
