@@ -203,7 +203,8 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
      << ", \"sensitivity_factorizations\": " << st.sensitivityFactorizations
      << ", \"residual_evaluations\": " << st.residualEvaluations
      << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
-     << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures << ", \"lu_fill\": " << jsonNumber(st.luFill)
+     << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures
+     << ", \"accelerated_iterations\": " << st.acceleratedIterations << ", \"lu_fill\": " << jsonNumber(st.luFill)
      << ", \"factorization_seconds\": " << jsonNumber(st.factorizationSeconds) << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
   js << "  \"energy\": " << energy << ",\n";

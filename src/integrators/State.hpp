@@ -35,6 +35,7 @@ struct IntegratorStats {
   long jacobianEvaluations = 0;
   long errorTestFailures = 0;
   long convergenceFailures = 0;  ///< IDAS: nonlinear failures; fixed step: modified-Newton steps redone with full Newton
+  long acceleratedIterations = 0;  ///< fixed step, modified Newton: iterations with an Anderson-accelerated step
   double maxConstraintViolation = 0.0;  ///< max over frames of |Phi|_inf
   double luFill = 0.0;                  ///< largest nnz(L + U) / nnz(A) of the step matrices
   double factorizationSeconds = 0.0;    ///< wall time in numeric factorizations [s]
