@@ -9,6 +9,8 @@
 // otherwise), O(k^2 n) per iteration against the LU solve's O(nnz(L+U)), and no heap traffic.
 #pragma once
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 
 #include "core/Types.hpp"

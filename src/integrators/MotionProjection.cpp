@@ -1,5 +1,7 @@
 #include "integrators/MotionProjection.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace flexsens {
