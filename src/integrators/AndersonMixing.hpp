@@ -10,6 +10,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 
 #include <Eigen/Cholesky>
 
@@ -34,8 +35,12 @@ class AndersonMixing {
     if (has_) {  // columns kept in a ring: the newest at next_
       dX_.col(next_) = x - xPrev_;
       dF_.col(next_) = f - fPrev_;
-      next_ = (next_ + 1) % depth_;
       count_ = std::min(count_ + 1, depth_);
+      // Inner products of the new column with the kept ones (over the fit rows): O(k n) per
+      // step instead of recomputing F^T F, O(k^2 n) (3-6% of a 3D solid's modified Newton).
+      for (int i = 0; i < count_; ++i)
+        gram_(i, next_) = gram_(next_, i) = dF_.col(i).head(rows_).dot(dF_.col(next_).head(rows_));
+      next_ = (next_ + 1) % depth_;
     }
     xPrev_ = x;
     fPrev_ = f;
@@ -50,11 +55,8 @@ class AndersonMixing {
     using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxDepth, 1>;
     const auto Fq = dF_.topLeftCorner(rows_, count_);
     SmallVec scale(count_);
-    for (int j = 0; j < count_; ++j) {
-      const double c = Fq.col(j).norm();
-      scale[j] = c > 0.0 ? 1.0 / c : 0.0;
-    }
-    Small G = scale.asDiagonal() * (Fq.transpose() * Fq) * scale.asDiagonal();
+    for (int j = 0; j < count_; ++j) scale[j] = gram_(j, j) > 0.0 ? 1.0 / std::sqrt(gram_(j, j)) : 0.0;
+    Small G = scale.asDiagonal() * gram_.topLeftCorner(count_, count_) * scale.asDiagonal();
     G.diagonal().array() += 1e-14;  // unit diagonal: nearly dependent differences stay solvable
     const SmallVec gamma = scale.asDiagonal() * G.ldlt().solve(scale.asDiagonal() * (Fq.transpose() * f.head(rows_)));
     if (!gamma.allFinite()) return f;
@@ -68,6 +70,7 @@ class AndersonMixing {
   int depth_;
   Eigen::Index rows_;
   MatX dX_, dF_;
+  Eigen::Matrix<double, kMaxDepth, kMaxDepth> gram_;  ///< dF_i . dF_j over the fit rows
   VecX xPrev_, fPrev_;
   int count_ = 0, next_ = 0;
   bool has_ = false;
