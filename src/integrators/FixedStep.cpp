@@ -179,7 +179,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   int skipReuse = 0, backoff = 1;
   // Newton starts from q_n instead of the predictor once a step needed that (see below).
   bool startAtOld = false;
-  AndersonMixing anderson(kAndersonDepth, n + m, n);  // modified Newton's acceleration
+  AndersonMixing anderson(modified ? kAndersonDepth : 0, n + m, n);  // modified Newton's acceleration
   VecX xk(n + m);                                     // its iterate (q, lambda)
   bool slowChord = false;  // the last step's chord contracted slower than kAndersonAbove
   std::vector<State> dnext;  // the next step's sensitivities
