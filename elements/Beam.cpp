@@ -40,12 +40,8 @@ std::vector<std::pair<std::string, Quantity*>> BeamSection::properties() {
 }
 
 namespace {
-/// Vectors and matrices of the segment's dimension d = 2 or 3, on the stack (no heap traffic
-/// in the per-segment kernels, which run for every segment at every Newton matrix).
-using VecD = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
-using MatD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
-VecD gravityOf(const LocalState& s) {
-  return s.gravity ? VecD(*s.gravity) : VecD(VecD::Zero(s.dim));
+VecUpTo3 gravityOf(const LocalState& s) {
+  return s.gravity ? VecUpTo3(*s.gravity) : VecUpTo3(VecUpTo3::Zero(s.dim));
 }
 }  // namespace
 
@@ -60,7 +56,7 @@ BeamSegment::BeamSegment(std::string name, std::vector<int> nodes,
 
 namespace {
 /// Unit axis n and current length l of a segment; throws on bad dim or zero length.
-double segmentAxis(const Element& e, const LocalState& s, VecD& n) {
+double segmentAxis(const Element& e, const LocalState& s, VecUpTo3& n) {
   if (s.dim != 2 && s.dim != 3) throw std::invalid_argument("beam_segment " + e.name() + ": dim must be 2 or 3");
   n = s.x.segment(s.dim, s.dim) - s.x.segment(0, s.dim);
   const double l = n.norm();
@@ -98,7 +94,7 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   const T EA = props[0] * A, rhoA = props[1] * A;
   const T N = EA * (l - L_) / L_;                     // axial force dU/dl [N]
   const T w = 0.5 * rhoA * L_;                        // nodal mass [kg]
-  const VecD g = gravityOf(s);
+  const VecUpTo3 g = gravityOf(s);
   VecT<T> Q(2 * d);
   for (int i = 0; i < d; ++i) {
     Q[i] = N * n[i] + w * g[i];
@@ -108,13 +104,13 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
 }
 
 void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  VecD n;
+  VecUpTo3 n;
   const double l = segmentAxis(*this, s, n);
   const int d = s.dim;
   const double EA = sec_->EA(*s.p), N = EA * (l - L_) / L_;
   // K = d(N n)/d(x_b - x_a) = (EA/L) n n^T + (N/l)(I - n n^T)   [N/m]
-  const MatD nn = n * n.transpose();
-  const MatD K = (EA / L_) * nn + (N / l) * (MatD::Identity(d, d) - nn);
+  const MatUpTo3 nn = n * n.transpose();
+  const MatUpTo3 K = (EA / L_) * nn + (N / l) * (MatUpTo3::Identity(d, d) - nn);
   dQdq.resize(2 * d, 2 * d);
   dQdq << -K, K, K, -K;
   dQdv.setZero(2 * d, 2 * d);
@@ -122,12 +118,12 @@ void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) con
 
 bool BeamSegment::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   if (!sec_->axialDependsOn(k)) return false;
-  VecD n;
+  VecUpTo3 n;
   const double l = segmentAxis(*this, s, n);
   const int d = s.dim;
   const double dN = sec_->dEA(*s.p, k) * (l - L_) / L_;
   const double drhoA = sec_->drhoA(*s.p, k);
-  const VecD dG = 0.5 * drhoA * L_ * gravityOf(s);
+  const VecUpTo3 dG = 0.5 * drhoA * L_ * gravityOf(s);
   dQ.resize(2 * d);
   dQ.head(d) = dN * n + dG;
   dQ.tail(d) = -dN * n + dG;
@@ -141,7 +137,7 @@ bool BeamSegment::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX
 }
 
 double BeamSegment::potential(const LocalState& s) const {
-  VecD n;
+  VecUpTo3 n;
   const double l = segmentAxis(*this, s, n);
   const int d = s.dim;
   const double eps = (l - L_) / L_;

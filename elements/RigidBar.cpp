@@ -56,21 +56,17 @@ double RigidBar::potential(const LocalState& s) const {
 }
 
 // --------------------------------------------------------------------------- spring-damper
-/// Vectors and matrices of the node dimension (2 or 3) with inline storage: the kernels below
-/// run for every spring at every Newton iteration, and heap-allocated temporaries were most of
-/// their cost on a small model (flexible five-bar).
-using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3, 1>;
-using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
-
+// Inline-storage VecUpTo3 / MatUpTo3: heap-allocated temporaries were most of these kernels'
+// cost on the flexible five-bar.
 struct SpringDamper::Geometry {
-  SmallVec u;   ///< unit vector from a to b
+  VecUpTo3 u;   ///< unit vector from a to b
   double l;     ///< current length [m]
   double ldot;  ///< elongation rate [m/s]
-  SmallVec w;   ///< relative velocity v_b - v_a
+  VecUpTo3 w;   ///< relative velocity v_b - v_a
   /// Coincident nodes of a spring with zero natural length and no damping: the force k dx is
   /// smooth there although its direction is not; u is then unused (zero).
   bool zeroLength = false;
-  SmallVec dx;  ///< x_b - x_a [m]
+  VecUpTo3 dx;  ///< x_b - x_a [m]
 };
 
 SpringDamper::Geometry SpringDamper::geometry(const LocalState& s) const {
@@ -82,7 +78,7 @@ SpringDamper::Geometry SpringDamper::geometry(const LocalState& s) const {
   if (!(g.l > 1e-12)) {
     if (!(s.value(L0_) == 0.0 && s.value(c_) == 0.0)) coincidentNodes(g.l);
     g.zeroLength = true;
-    g.u = SmallVec::Zero(d);
+    g.u = VecUpTo3::Zero(d);
     g.ldot = 0.0;
     return g;
   }
@@ -129,13 +125,13 @@ void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) co
   const double k = s.value(k_), c = s.value(c_);
   const double f = k * (g.l - s.value(L0_)) + c * g.ldot;
   // G = d(f u)/d(x_b - x_a), Cm = d(f u)/d(v_b - v_a); at zero length f u = k dx.
-  SmallMat G(d, d), Cm(d, d);
+  MatUpTo3 G(d, d), Cm(d, d);
   if (g.zeroLength) {
     G.setIdentity();
     G *= k;
   } else {
-    const SmallMat P = SmallMat::Identity(d, d) - g.u * g.u.transpose();
-    const SmallVec Pw = P * g.w;
+    const MatUpTo3 P = MatUpTo3::Identity(d, d) - g.u * g.u.transpose();
+    const VecUpTo3 Pw = P * g.w;
     G.noalias() = g.u * (k * g.u + (c / g.l) * Pw).transpose();
     G += (f / g.l) * P;
   }

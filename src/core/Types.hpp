@@ -11,6 +11,10 @@ namespace flexsens {
 
 using VecX = Eigen::VectorXd;
 using MatX = Eigen::MatrixXd;
+/// Vector and matrix of a node's dimension (2 or 3) with inline storage: element kernels that
+/// run for every element at every Newton iteration use them instead of heap-allocated VecX.
+using VecUpTo3 = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3, 1>;
+using MatUpTo3 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
 /// Compressed-column sparse matrix with 64-bit indices, the layout SUNDIALS' KLU wants.
 using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int64_t>;
 
