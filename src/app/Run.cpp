@@ -47,7 +47,7 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
     s.newton = *opt.newton;
   }
   if (opt.projections) s.projections = *opt.projections;
-  if (s.projections && s.type != "trapezoidal" && s.type != "generalized_alpha")
+  if (s.projections && !takesProjections(s.type))
     throw InputError("projections (--projections on, integrator.projections) apply to the trapezoidal rule and "
                      "generalized_alpha, not to " + s.type);
   if (opt.rtol) {

@@ -54,6 +54,8 @@ inline bool isSensitivityCorrector(const std::string& c) { return c == "staggere
 inline bool isSensitivityTolerance(const std::string& c) { return c == "state" || c == "normwise"; }
 
 inline bool isNewtonMode(const std::string& m) { return m == "full" || m == "modified"; }
+/// The schemes whose steps MotionProjection can project (they carry v and a from step to step).
+inline bool takesProjections(const std::string& type) { return type == "trapezoidal" || type == "generalized_alpha"; }
 
 /// The integrator names scenes and the command line accept.
 inline constexpr const char* kIntegratorTypes = "idas, trapezoidal, midpoint, bdf1, generalized_alpha or maggi_rk4";

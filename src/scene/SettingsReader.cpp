@@ -49,7 +49,7 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
   }
   if (in["projections"]) {
     s.projections = r.boolean(in["projections"], "integrator.projections");
-    if (s.projections && s.type != "trapezoidal" && s.type != "generalized_alpha")
+    if (s.projections && !takesProjections(s.type))
       r.fail(in["projections"], "integrator.projections",
              "projections apply to the trapezoidal rule and generalized_alpha, not to " + s.type);
   }
