@@ -413,10 +413,6 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     next.a = sc.ca * (q - old.q) + abar;
     next.v = sc.cv * (q - old.q) + vbar;
     next.lambda = lt / sigma;
-    // The step's equations hold with the scheme's a and v; the projections change them after.
-    const VecX aScheme = projection ? next.a : VecX(), vScheme = projection ? next.v : VecX();
-    if (projection) projection->project(next, step);
-    next.pseudoAcc = sc.nextPseudo(old, next.a);
     if (!next.q.allFinite() || !next.v.allFinite() || !next.lambda.allFinite()) {
       std::ostringstream os;
       os << set.type << " step " << step << " at t = " << t << " s: the solution is not finite; "
@@ -429,7 +425,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       // Exact derivative of the discrete step: A(q_{n+1}) dx/dp = -dr/dp at fixed q_{n+1}, with
       // the Newton matrix at the converged point; one right-hand side per parameter.
       const VecX& qf = sc.forcePoint(q, old.q, qfBuf);
-      const VecX& vf = sc.forcePoint(projection ? vScheme : next.v, old.v, vfBuf);
+      const VecX& vf = sc.forcePoint(next.v, old.v, vfBuf);
       const SpMat& A = newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
       st.jacobianEvaluations++;
       kv.begin(n, n);
@@ -457,7 +453,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
           forceTerm += dQdv * vh;
-        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), projection ? aScheme : next.a) + M * ah - forceTerm) +
+        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), next.a) + M * ah - forceTerm) +
                              as.phiQParamDerivativeTransposeTimes(q, p, int(k), lt));
         if (m) X.col(k).tail(m) = -as.phiParamDerivative(q, p, int(k));
       }
@@ -509,15 +505,19 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         lu.solve(rest);
         X.rightCols(np - iterated) = rest;
       }
-      for (Eigen::Index k = 0; k < np; ++k) {
-        State& d = dnext[size_t(k)];
-        d.q = X.col(k).head(n);
-        d.lambda = X.col(k).tail(m) / sigma;
-        d.v = sc.cv * d.q + hist.col(k).tail(n);
-        d.a = sc.ca * d.q + hist.col(k).head(n);
-        if (projection) projection->sensitivity(next, int(k), d);
-        d.pseudoAcc = sc.nextPseudo(cur.dp[size_t(k)], d.a);
-      }
+    }
+    // The step's equations, which the sensitivity right-hand sides above differentiate, hold
+    // with the scheme's a and v; the projections change them only now.
+    if (projection) projection->project(next, step);
+    next.pseudoAcc = sc.nextPseudo(old, next.a);
+    for (size_t k = 0; k < dnext.size(); ++k) {
+      State& d = dnext[k];
+      d.q = X.col(Eigen::Index(k)).head(n);
+      d.lambda = X.col(Eigen::Index(k)).tail(m) / sigma;
+      d.v = sc.cv * d.q + hist.col(Eigen::Index(k)).tail(n);
+      d.a = sc.ca * d.q + hist.col(Eigen::Index(k)).head(n);
+      if (projection) projection->sensitivity(next, int(k), d);
+      d.pseudoAcc = sc.nextPseudo(cur.dp[k], d.a);
     }
     if (step <= kEarlySteps) {
       int where = -1;

@@ -47,6 +47,12 @@ void MotionProjection::project(State& x, long step) {
   da_ = s.head(n);
   kappa_ = s.tail(m);
   x.a += da_;
+  if (!x.v.allFinite() || !x.a.allFinite()) {
+    std::ostringstream os;
+    os << "projection at t = " << x.t << " s (step " << step << "): the projected velocities or accelerations "
+       << "are not finite; try a smaller --dt";
+    throw NumericalError(os.str());
+  }
 }
 
 void MotionProjection::sensitivity(const State& x, int k, State& d) const {
