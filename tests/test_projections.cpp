@@ -20,26 +20,18 @@ using namespace flexsens::test;
 
 namespace {
 
-/// A motor turns bar O-T about O (theta = 0.5 sin 3t, TestModels' motor bar) and bar T-U
-/// hangs from T as a pendulum.
+/// A motor turns bar O-T about O (theta = 0.5 sin 3t: TestModels' motor bar) and bar T-U hangs
+/// from T as a pendulum.
 Scene drivenPendulum() {
-  return readSceneText(R"(dimension: 2
-gravity: [0, -9.81]
-nodes:
-  - {name: O, position: [0, 0], ground: true}
-  - {name: X, position: [1, 0], ground: true}
-  - {name: T, position: [1, 0]}
-  - {name: U, position: [1.6, -0.8]}
-elements:
-  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 2.0}
-  - {name: bar2, type: rigid_bar, nodes: [T, U], mass: 1.0}
-constraints:
-  - {name: motor, type: motor, nodes: [O, X, O, T], function: {type: harmonic, amplitude: 0.5, omega: 3}}
-parameters:
+  std::string text = kMotorBarScene;
+  text.replace(text.find("elements:\n"), 10, "  - {name: U, position: [1.6, -0.8]}\nelements:\n");
+  text.replace(text.find("constraints:\n"), 13, "  - {name: bar2, type: rigid_bar, nodes: [T, U], mass: 1.0}\nconstraints:\n");
+  text += R"(parameters:
   - {name: A, of: motor, property: amplitude}
   - {name: L2, of: bar2, property: length}
 integrator: {type: trapezoidal, t_end: 1, dt: 1.0e-3}
-)", "driven_pendulum.yaml");
+)";
+  return readSceneText(text, "driven_pendulum.yaml");
 }
 
 /// max over frames after the first of |Phi_q v + Phi_t|_inf and |Phi_q a + v^T H v + g|_inf.
