@@ -18,12 +18,61 @@ VecT<T> BilinearConstraint::phiT(const LocalState&, const VecT<T>& x, const VecT
   return out;
 }
 
+namespace {
+/// c with N = [c_0 I, c_1 I, ...] (3 x 3 blocks), or empty when N is not of that form.
+VecX blockScalars(const MatX& N) {
+  if (N.rows() != 3 || N.cols() % 3 != 0) return VecX();
+  VecX c(N.cols() / 3);
+  for (Eigen::Index k = 0; k < c.size(); ++k) {
+    c[k] = N(0, 3 * k);
+    if (N.block(0, 3 * k, 3, 3) != c[k] * Eigen::Matrix3d::Identity()) return VecX();
+  }
+  return c;
+}
+}  // namespace
+
+BilinearConstraint::BilinearConstraint(std::string name, std::string kind, std::vector<int> nodes, MatX N,
+                                       Eigen::Vector3d a0, MatX W, Eigen::Vector3d b0, double c0, int gradients)
+    : KernelConstraint(std::move(name), std::move(nodes)), kind_(std::move(kind)), N_(std::move(N)),
+      W_(std::move(W)), a0_(a0), b0_(b0), c0_(c0), H_(N_.transpose() * W_ + W_.transpose() * N_),
+      gradients_(gradients), nc_(blockScalars(N_)), wc_(blockScalars(W_)) {
+  if (nc_.size() == 0 || wc_.size() == 0) nc_.resize(0), wc_.resize(0);
+}
+
+void BilinearConstraint::factors(const VecX& x, Eigen::Vector3d& a, Eigen::Vector3d& b) const {
+  if (nc_.size() == 0) {
+    a = N_.lazyProduct(x) + a0_;
+    b = W_.lazyProduct(x) + b0_;
+    return;
+  }
+  a = a0_;
+  b = b0_;
+  for (Eigen::Index k = 0; k < nc_.size(); ++k) {
+    a += nc_[k] * x.segment<3>(3 * k);
+    b += wc_[k] * x.segment<3>(3 * k);
+  }
+}
+
+void BilinearConstraint::phi(const LocalState& s, VecX& out) const {
+  // phiT<double> without its returned vector: the residual evaluates every constraint at
+  // every Newton iteration, and that allocation was ~3% of the satellite's run.
+  Eigen::Vector3d a, b;
+  factors(s.x, a, b);
+  out.resize(1);
+  out[0] = a.dot(b) - c0_;
+}
+
 void BilinearConstraint::jacobian(const LocalState& s, MatX& J) const {
   // d/dx [(N x + a0) . (W x + b0)] = (W x + b0)^T N + (N x + a0)^T W
-  // Coefficient-wise (lazy) products: 3 x ~15 is far below where Eigen's gemv kernel pays.
-  const Eigen::Vector3d a = N_.lazyProduct(s.x) + a0_, b = W_.lazyProduct(s.x) + b0_;
+  Eigen::Vector3d a, b;
+  factors(s.x, a, b);
   J.resize(1, N_.cols());
-  J.noalias() = b.transpose().lazyProduct(N_) + a.transpose().lazyProduct(W_);
+  if (nc_.size() == 0) {
+    // Coefficient-wise (lazy) products: 3 x ~15 is far below where Eigen's gemv kernel pays.
+    J.noalias() = b.transpose().lazyProduct(N_) + a.transpose().lazyProduct(W_);
+    return;
+  }
+  for (Eigen::Index k = 0; k < nc_.size(); ++k) J.block<1, 3>(0, 3 * k) = nc_[k] * b.transpose() + wc_[k] * a.transpose();
 }
 
 std::unique_ptr<BilinearConstraint> BilinearConstraint::perpendicular(std::string name, std::vector<int> nodes,

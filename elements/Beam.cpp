@@ -103,6 +103,19 @@ VecT<T> BeamSegment::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   return Q;
 }
 
+void BeamSegment::force(const LocalState& s, VecX& Q) const {
+  // forceT<double> into Q's storage: the residual evaluates every element at every Newton
+  // iteration, and the kernel's property and result vectors were ~1% of the satellite's run.
+  VecUpTo3 n;
+  const double l = segmentAxis(*this, s, n);
+  const int d = s.dim;
+  const double N = sec_->EA(*s.p) * (l - L_) / L_;  // axial force [N]
+  const VecUpTo3 G = 0.5 * sec_->rhoA(*s.p) * L_ * gravityOf(s);  // nodal weight [N]
+  Q.resize(2 * d);
+  Q.head(d) = N * n + G;
+  Q.tail(d) = -N * n + G;
+}
+
 void BeamSegment::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecUpTo3 n;
   const double l = segmentAxis(*this, s, n);

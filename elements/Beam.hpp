@@ -70,6 +70,7 @@ class BeamSegment : public KernelElement<BeamSegment> {
   BeamSegment(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
               double restLength);
   std::string kind() const override { return "beam_segment"; }
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;

@@ -199,6 +199,12 @@ VecT<T> BeamHinge3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   return Q;
 }
 
+void BeamHinge3D::force(const LocalState& s, VecX& Q) const {
+  // forceT<double> into Q's storage (see BeamSegment::force): Q = -dU/df grad f  [N]
+  const double f = curvatureSquared(s, &Q, nullptr);  // grad f, in Q's storage
+  Q *= -dUdf(sec_->EI(*s.p), f);
+}
+
 void BeamHinge3D::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecX g;
   const double f = curvatureSquared(s, &g, &dQdq);  // Hess f, in dQdq's storage

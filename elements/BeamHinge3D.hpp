@@ -48,6 +48,7 @@ class BeamHinge3D : public KernelElement<BeamHinge3D> {
   BeamHinge3D(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
               const VecX& restX, double voronoiLength = 0.0);
   std::string kind() const override { return "beam_hinge3d"; }
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;

@@ -25,6 +25,9 @@ class KernelElement : public Element {
   using Element::Element;
   bool mass(const LocalState& s, MatX& M) const override;
   void force(const LocalState& s, VecX& Q) const override;
+  /// Q by the value template (force() unless Derived writes its own double path for speed;
+  /// the tests compare the two).
+  VecX kernelForce(const LocalState& s) const;
   void forceJacobianAD(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
 

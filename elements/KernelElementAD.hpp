@@ -20,7 +20,12 @@ bool KernelElement<Derived>::mass(const LocalState& s, MatX& M) const {
 
 template <class Derived>
 void KernelElement<Derived>::force(const LocalState& s, VecX& Q) const {
-  Q = self().template forceT<double>(s, s.x, s.v, ad::propertyValues(self().kernelProperties(), *s.p));
+  Q = kernelForce(s);
+}
+
+template <class Derived>
+VecX KernelElement<Derived>::kernelForce(const LocalState& s) const {
+  return self().template forceT<double>(s, s.x, s.v, ad::propertyValues(self().kernelProperties(), *s.p));
 }
 
 template <class Derived>

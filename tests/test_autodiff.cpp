@@ -191,6 +191,11 @@ TEST(AutoDiff, BeamSegment2DAnd3D) {
       x.tail(dim) = x.head(dim) + (square ? 1.3 : 0.6) * L * d;  // stretched / compressed
       Local l(dim, x, VecX::Zero(2 * dim), square ? squareParams() : explicitParams());
       checkElement(e, l.s, static_cast<int>(l.p.size()), true, false);
+      // force() is written for double apart from the value template the AD kernels use
+      VecX Q;
+      e.force(l.s, Q);
+      EXPECT_LT(rel(Q, e.kernelForce(l.s)), 1e-14);
+      EXPECT_GT(Q.norm(), 0.0);
     }
   }
 }
@@ -272,6 +277,27 @@ TEST(AutoDiff, BilinearConstraints) {
   const auto perp = BilinearConstraint::perpendicular("perp", {0, 1, 2, 3}, 0.0);
   Local l2(3, randomVec(12, 26, 1.0), VecX::Zero(12), VecX::Constant(1, 1.0));
   checkConstraint(*perp, l2.s, 1, true);
+  // Phi itself (hand-written for double, apart from the AD kernel): the perpendicularity's
+  // value (x_b - x_a) . (x_d - x_c), and central differences of it against Phi_q.
+  VecX f;
+  perp->phi(l2.s, f);
+  const VecX& x = l2.s.x;
+  EXPECT_NEAR(f[0], (x.segment<3>(3) - x.segment<3>(0)).dot(x.segment<3>(9) - x.segment<3>(6)), 1e-14);
+  for (const auto* c : {static_cast<const Constraint*>(plane.get()), static_cast<const Constraint*>(perp.get())}) {
+    LocalState s = c == perp.get() ? l2.s : l.s;
+    MatX J;
+    c->jacobian(s, J);
+    const VecX x0 = s.x;
+    for (Eigen::Index j = 0; j < x0.size(); ++j) {
+      VecX fp, fm;
+      s.x = x0;
+      s.x[j] += 1e-6;
+      c->phi(s, fp);
+      s.x[j] -= 2e-6;
+      c->phi(s, fm);
+      EXPECT_NEAR((fp[0] - fm[0]) / 2e-6, J(0, j), 1e-8) << c->kind() << " coordinate " << j;
+    }
+  }
 }
 
 TEST(AutoDiff, FixedNodeConstraint) {

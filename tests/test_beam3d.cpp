@@ -109,6 +109,7 @@ void checkHinge(const BeamHinge3D& e, Local& l, double h, Worst& w) {
   VecX Q;
   e.force(s, Q);
   ASSERT_GT(Q.norm(), 0.0);
+  EXPECT_LT(rel(Q, e.kernelForce(s)), 1e-14) << "force() against the value template the AD kernels use";
   // force vs -grad(potential)
   const MatX gradU = fd([&](const VecX& x) {
     LocalState t = s;

@@ -18,7 +18,10 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/Assembler.hpp"
+#include "core/SparseAccumulator.hpp"
 #include "integrators/State.hpp"
 
 namespace flexsens {
@@ -57,6 +60,9 @@ class RunHealth : public ForwardingObserver {
   int sensParam_ = -1;
   double cond_ = 1.0, tCond_ = 0.0;
   bool condChecked_ = false;
+  SparseAccumulator phiQ_;  ///< Phi_q's pattern, and the Gram matrix and eigen-solver's storage
+  MatX gram_;
+  Eigen::SelfAdjointEigenSolver<MatX> eig_;
   std::vector<int> massless_;  ///< massless coordinates (checked when any and n <= kMasslessCheckMax)
   double masslessRatio_ = 1.0, tMassless_ = 0.0;  ///< smallest lambda_min / lambda_max, its time
   double masslessRatio0_ = 0.0;                   ///< the same at the first frame

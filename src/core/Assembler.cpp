@@ -72,14 +72,14 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
 const LocalState& Assembler::elementState(size_t e, const VecX& q, const VecX& v, const VecX& p) const {
   if (elemScratch_.size() != model_.elements.size()) elemScratch_.resize(model_.elements.size());
   const Element& el = *model_.elements[e];
-  fillLocalState(elemScratch_[e], el.nodes(), q, v, p, el.gradients());
+  gatherLocalState(elemScratch_[e], el.nodes(), elemDofs_[e], q, v, p, el.gradients());
   return elemScratch_[e];
 }
 
 const LocalState& Assembler::constraintState(size_t c, const VecX& q, const VecX& v, const VecX& p) const {
   if (consScratch_.size() != cons_.size()) consScratch_.resize(cons_.size());
   const Constraint& co = *cons_[c];
-  fillLocalState(consScratch_[c], co.nodes(), q, v, p, co.gradients());
+  gatherLocalState(consScratch_[c], co.nodes(), consDofs_[c], q, v, p, co.gradients());
   return consScratch_[c];
 }
 
@@ -108,6 +108,38 @@ void Assembler::fillLocalState(LocalState& s, const std::vector<int>& nodes, con
       if (v.size()) s.v.segment(w * a + d, ng) = v.segment(nd.slopeDof, ng);
     }
   }
+  setEvaluationPoint(s, p);
+}
+
+void Assembler::gatherLocalState(LocalState& s, const std::vector<int>& nodes, const std::vector<int>& map,
+                                 const VecX& q, const VecX& v, const VecX& p, int gradients) const {
+  // fillLocalState through the dof map (dofMap: node after node, positions then gradients):
+  // one indexed copy per entry. The residual gathers every element and constraint at every
+  // iteration, and the per-node segment copies were 7% of the satellite's run.
+  const int d = model_.dim;
+  s.dim = d;
+  s.gradients = gradients;
+  const int w = s.nodeSize();
+  const size_t len = map.size();
+  s.x.resize(len);
+  s.v.resize(len);
+  const bool withV = v.size() > 0;
+  for (size_t i = 0; i < len; ++i) {
+    const int g = map[i];
+    if (g >= 0) {
+      s.x[i] = q[g];
+      s.v[i] = withV ? v[g] : 0.0;
+    } else {  // a ground node's position or a clamped gradient: fixed, at rest
+      const Node& nd = model_.nodes[nodes[i / w]];
+      const int c = int(i % w);
+      s.x[i] = c < d ? nd.position[c] : nd.slope[c - d];
+      s.v[i] = 0.0;
+    }
+  }
+  setEvaluationPoint(s, p);
+}
+
+void Assembler::setEvaluationPoint(LocalState& s, const VecX& p) const {
   s.p = &p;
   s.t = time_;
   if (gravityBound_ || loadFactor_ != 1.0) {
@@ -240,12 +272,29 @@ VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) 
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
-    const auto& map = consDofs_[c];
-    const VecX g = J.transpose() * l.segment(consRow_[c], co.rows());
-    for (size_t j = 0; j < map.size(); ++j)
-      if (map[j] >= 0) r[map[j]] += g[j];
+    addTransposeTimes(J, consDofs_[c], l.segment(consRow_[c], co.rows()), r);
   }
   return r;
+}
+
+void Assembler::constraintTerms(const VecX& q, const VecX& p, const VecX& l, VecX& phi, VecX& phiQTl) const {
+  phi.resize(m());
+  phiQTl.setZero(n());
+  VecX pl;
+  MatX J;
+  for (size_t c = 0; c < cons_.size(); ++c) {
+    const auto& co = *cons_[c];
+    const LocalState& s = constraintState(c, q, VecX(), p);
+    co.phi(s, pl);
+    phi.segment(consRow_[c], co.rows()) = pl;
+    constraintJacobian(co, s, J);
+    addTransposeTimes(J, consDofs_[c], l.segment(consRow_[c], co.rows()), phiQTl);
+  }
+}
+
+void Assembler::addTransposeTimes(const MatX& J, const std::vector<int>& map, Eigen::Ref<const VecX> l, VecX& r) {
+  for (size_t j = 0; j < map.size(); ++j)
+    if (map[j] >= 0) r[map[j]] += J.col(Eigen::Index(j)).dot(l);
 }
 
 namespace {
@@ -371,6 +420,10 @@ void Assembler::addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, d
 
 SpMat Assembler::phiQSparse(const VecX& q, const VecX& p) const {
   SparseAccumulator acc;
+  return phiQSparse(q, p, acc);
+}
+
+const SpMat& Assembler::phiQSparse(const VecX& q, const VecX& p, SparseAccumulator& acc) const {
   acc.begin(m(), n());
   addPhiQ(acc, q, p, 1.0, 0, 0, false);
   return acc.finish();

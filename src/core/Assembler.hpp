@@ -61,6 +61,9 @@ class Assembler {
   VecX phi(const VecX& q, const VecX& p) const;                           ///< Phi
   VecX phiQTimes(const VecX& q, const VecX& p, const VecX& x) const;      ///< Phi_q x
   VecX phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const;  ///< Phi_q^T l
+  /// Phi and Phi_q^T l in one pass over the constraints (each gathered once): the Newton
+  /// residual needs both at every iteration.
+  void constraintTerms(const VecX& q, const VecX& p, const VecX& l, VecX& phi, VecX& phiQTl) const;
   VecX hessianQuadratic(const VecX& q, const VecX& p, const VecX& v) const;  ///< (v^T H_i v)_i
   VecX hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const;  ///< (sum w_i H_i) x
   VecX hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const;  ///< (v^T H_i x)_i
@@ -78,6 +81,8 @@ class Assembler {
 
   /// Phi_q (m x n), sparse.
   SpMat phiQSparse(const VecX& q, const VecX& p) const;
+  /// The same in acc's storage (its pattern kept from call to call).
+  const SpMat& phiQSparse(const VecX& q, const VecX& p, SparseAccumulator& acc) const;
   /// Phi_q as a dense matrix (small systems: PIM, least-norm projections).
   MatX phiQDense(const VecX& q, const VecX& p) const { return MatX(phiQSparse(q, p)); }
   /// Constant mass matrix M(p) (elements' masses do not depend on q).
@@ -172,6 +177,12 @@ class Assembler {
   mutable VecX gravityAtP_;
   void fillLocalState(LocalState& s, const std::vector<int>& nodes, const VecX& q, const VecX& v,
                       const VecX& p, int gradients) const;
+  /// The same, with the entries' dofs from map (elemDofs_, consDofs_).
+  void gatherLocalState(LocalState& s, const std::vector<int>& nodes, const std::vector<int>& map, const VecX& q,
+                        const VecX& v, const VecX& p, int gradients) const;
+  void setEvaluationPoint(LocalState& s, const VecX& p) const;  ///< p, t and gravity of s
+  /// r[map[j]] += (J^T l)_j for the entries map[j] >= 0.
+  static void addTransposeTimes(const MatX& J, const std::vector<int>& map, Eigen::Ref<const VecX> l, VecX& r);
   mutable std::vector<LocalState> elemScratch_, consScratch_;  ///< elementState, constraintState
   /// Per design parameter k: the elements (constraints) whose Q or M (Phi) depend on it, found
   /// at the first derivative with respect to k by asking each one (a kernel's "false" is

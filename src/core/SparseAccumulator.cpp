@@ -7,14 +7,16 @@ namespace flexsens {
 void SparseAccumulator::begin(int rows, int cols) {
   if (rows != rows_ || cols != cols_) {
     recording_ = true;
-    trip_.clear();
+    key_.clear();
+    value_.clear();
     slot_.clear();
     rows_ = rows;
     cols_ = cols;
   }
   k_ = 0;
   if (recording_) {
-    trip_.clear();
+    key_.clear();
+    value_.clear();
     slot_.clear();
   }
   if (!recording_) std::fill(mat_.valuePtr(), mat_.valuePtr() + mat_.nonZeros(), 0.0);
@@ -33,33 +35,37 @@ void SparseAccumulator::addBlock(const std::vector<int>& rowMap, const std::vect
 
 void SparseAccumulator::rebuildFrom(size_t k, int64_t r, int64_t c, double v) {
   // Recover the values added so far in this pass, then switch back to recording.
-  for (size_t i = 0; i < k; ++i) trip_[i].v = mat_.valuePtr()[slot_[i]];
+  value_.resize(k);
+  for (size_t i = 0; i < k; ++i) value_[i] = mat_.valuePtr()[slot_[i]];
   // Values of duplicates were summed into one slot: keep the sum on the first occurrence.
   std::vector<bool> seen(mat_.nonZeros(), false);
   for (size_t i = 0; i < k; ++i) {
-    if (seen[slot_[i]]) trip_[i].v = 0.0;
+    if (seen[slot_[i]]) value_[i] = 0.0;
     seen[slot_[i]] = true;
   }
-  trip_.resize(k);
+  key_.resize(k);
   slot_.clear();
   recording_ = true;
-  trip_.push_back({r, c, v});
+  key_.push_back(keyOf(r, c));
+  value_.push_back(v);
 }
 
 void SparseAccumulator::build() {
   std::vector<Eigen::Triplet<double, int64_t>> t;
-  t.reserve(trip_.size());
-  for (const auto& x : trip_) t.emplace_back(x.r, x.c, x.v);
+  t.reserve(key_.size());
+  for (size_t i = 0; i < key_.size(); ++i)
+    t.emplace_back(int64_t(key_[i] >> 32), int64_t(key_[i] & 0xffffffffu), value_[i]);
   mat_.resize(rows_, cols_);
   mat_.setFromTriplets(t.begin(), t.end());
   mat_.makeCompressed();
-  slot_.resize(trip_.size());
-  for (size_t i = 0; i < trip_.size(); ++i) {
-    const int64_t c = trip_[i].c;
+  slot_.resize(key_.size());
+  for (size_t i = 0; i < key_.size(); ++i) {
+    const int64_t c = t[i].col();
     const int64_t* begin = mat_.innerIndexPtr() + mat_.outerIndexPtr()[c];
     const int64_t* end = mat_.innerIndexPtr() + mat_.outerIndexPtr()[c + 1];
-    slot_[i] = std::lower_bound(begin, end, trip_[i].r) - mat_.innerIndexPtr();
+    slot_[i] = std::lower_bound(begin, end, t[i].row()) - mat_.innerIndexPtr();
   }
+  value_.clear();  // in the matrix now; recorded again only after a rebuild
 }
 
 const SpMat& SparseAccumulator::finish() {
@@ -69,7 +75,8 @@ const SpMat& SparseAccumulator::finish() {
   } else if (k_ != slot_.size()) {
     // Fewer additions than recorded: the sequence changed; rebuild from what this pass added.
     rebuildFrom(k_, 0, 0, 0.0);
-    trip_.pop_back();
+    key_.pop_back();
+    value_.pop_back();
     build();
     recording_ = false;
   }

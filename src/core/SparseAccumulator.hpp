@@ -3,6 +3,7 @@
 // later assemblies only add values into cached slots (no sorting, no allocation).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/Types.hpp"
@@ -13,11 +14,13 @@ class SparseAccumulator {
  public:
   void begin(int rows, int cols);
   void add(int64_t r, int64_t c, double v) {
+    const uint64_t key = keyOf(r, c);
     if (recording_) {
-      trip_.push_back({r, c, v});
+      key_.push_back(key);
+      value_.push_back(v);
       return;
     }
-    if (k_ >= slot_.size() || trip_[k_].r != r || trip_[k_].c != c) {
+    if (k_ >= slot_.size() || key_[k_] != key) {
       // The sequence changed (different model or different call order): rebuild.
       rebuildFrom(k_, r, c, v);
       return;
@@ -34,10 +37,14 @@ class SparseAccumulator {
   void setRowsToIdentity(const std::vector<int>& rows);
 
  private:
-  struct Trip { int64_t r, c; double v; };
+  /// (row, column) in one word: the check of each addition against the recorded sequence reads
+  /// 8 bytes, not a 24-byte triplet (the Newton matrix's ~50k additions, 5% of the satellite's
+  /// run). Rows and columns are below 2^32.
+  static uint64_t keyOf(int64_t r, int64_t c) { return (uint64_t(r) << 32) | uint64_t(c); }
   void rebuildFrom(size_t k, int64_t r, int64_t c, double v);
   void build();
-  std::vector<Trip> trip_;
+  std::vector<uint64_t> key_;  ///< the recorded sequence of (row, column)
+  std::vector<double> value_;  ///< the values added while recording
   std::vector<int64_t> slot_;
   SpMat mat_;
   size_t k_ = 0;

@@ -184,6 +184,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   bool slowChord = false;  // the last step's chord contracted slower than kAndersonAbove
   std::vector<State> dnext;  // the next step's sensitivities
   MatX X, hist;              // their right-hand sides and history terms, kept across steps
+  VecX phiBuf, phiQTlBuf;    // the residual's constraint terms
   VecX dabar, dvbar;
 
   beginRun(obs, cur);
@@ -212,10 +213,11 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     VecX qfBuf, vfBuf;  // the midpoint's force state
     auto residual = [&](const VecX& qq, const VecX& ll) {
       const VecX aa = sc.ca * (qq - old.q) + abar, vv = sc.cv * (qq - old.q) + vbar;
+      as.constraintTerms(qq, p, ll, phiBuf, phiQTlBuf);
       VecX r(n + m);
       r.head(n) = sigma * (M * aa - as.force(sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(vv, old.v, vfBuf), p)) +
-                  as.phiQTransposeTimes(qq, p, ll);
-      if (m) r.tail(m) = as.phi(qq, p);
+                  phiQTlBuf;
+      r.tail(m) = phiBuf;
       st.residualEvaluations++;
       return r;
     };
