@@ -30,10 +30,12 @@ void add(IntegratorStats& a, const IntegratorStats& b) {
   a.factorizations += b.factorizations;
   a.sensitivityIterations += b.sensitivityIterations;
   a.sensitivityFactorizations += b.sensitivityFactorizations;
+  a.sensitivityReusedLu += b.sensitivityReusedLu;
   a.residualEvaluations += b.residualEvaluations;
   a.jacobianEvaluations += b.jacobianEvaluations;
   a.errorTestFailures += b.errorTestFailures;
   a.convergenceFailures += b.convergenceFailures;
+  a.acceleratedIterations += b.acceleratedIterations;
   a.luFill = std::max(a.luFill, b.luFill);
   a.factorizationSeconds += b.factorizationSeconds;
 }

@@ -201,6 +201,7 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
   js << "  \"statistics\": {\"steps\": " << st.steps << ", \"newton_iterations\": " << st.newtonIterations
      << ", \"factorizations\": " << st.factorizations << ", \"sensitivity_iterations\": " << st.sensitivityIterations
      << ", \"sensitivity_factorizations\": " << st.sensitivityFactorizations
+     << ", \"sensitivity_reused_lu\": " << st.sensitivityReusedLu
      << ", \"residual_evaluations\": " << st.residualEvaluations
      << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
      << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures

@@ -116,11 +116,19 @@ constexpr double kAndersonAbove = 0.2;
 /// Anderson acceleration modified Newton keeps an older LU, and 12 applications let SAT1's
 /// sensitivity solve fall back to factoring 192 times in 500 steps; 20 / 30: 3 / 0.
 constexpr double kSensitivityBackwardError = 1e-13;
+/// Iterates whose (q, sigma lambda) differ by at most this much relative (inf-norm, per block)
+/// give the same Newton matrix to round-off (see the sensitivity solve).
+constexpr double kSameMatrix = 1e-13;
 constexpr int kSensitivitySolves = 30;
 /// A failure message names the growth of the accelerations when the last step's |a|_inf
 /// exceeds this multiple of the largest over the first kEarlySteps steps.
 constexpr double kAccelerationGrowth = 100.0;
 constexpr long kEarlySteps = 50;
+
+/// |a - b|_inf <= tol (1 + |a|_inf); false when the sizes differ.
+bool sameTo(const VecX& a, const VecX& b, double tol) {
+  return a.size() == b.size() && (a - b).lpNorm<Eigen::Infinity>() <= tol * (1.0 + a.lpNorm<Eigen::Infinity>());
+}
 
 /// The Newton matrix at q_{n+1} = q, with the forces at their scheme point (qf, vf).
 SpMat newtonMatrix(const Assembler& as, SparseAccumulator& acc, const VecX& q, const VecX& qf, const VecX& vf,
@@ -185,6 +193,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   std::vector<State> dnext;  // the next step's sensitivities
   MatX X, hist;              // their right-hand sides and history terms, kept across steps
   VecX phiBuf, phiQTlBuf;    // the residual's constraint terms
+  VecX luQ, luL;             // the iterate (q, sigma lambda) lu's matrix was assembled at ...
+  long luStep = 0;           // ... in this step
   VecX dabar, dvbar;
 
   beginRun(obs, cur);
@@ -233,6 +243,9 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
                 });
       st.jacobianEvaluations++;
       factoredCa = sc.ca;
+      luQ = qq;
+      luL = ll;
+      luStep = step;
     };
     // Newton from the predictor. With `backtrack`, an update that increases |r|_2 is halved
     // (down to 1/64): the fallback when plain Newton fails, so every step plain Newton
@@ -428,8 +441,21 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       // the Newton matrix at the converged point; one right-hand side per parameter.
       const VecX& qf = sc.forcePoint(q, old.q, qfBuf);
       const VecX& vf = sc.forcePoint(next.v, old.v, vfBuf);
-      const SpMat& A = newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
-      st.jacobianEvaluations++;
+      // The LU Newton kept is of the matrix at the converged point when this step factorized
+      // it at an iterate within round-off of that point (full Newton's last update; the
+      // flexible five-bar's are below 1e-14 relative, the satellite's 1e-10..1e-15): the
+      // matrix assembled there would be the same to its last digits. Then the right-hand
+      // sides are solved with it (refined against the matrix it factorized) and the assembly
+      // is skipped: it was 0.15 of a one-parameter five-bar run.
+      const bool luAtSolution = luStep == step && factoredCa == sc.ca && lu.factorized() &&
+                                sameTo(q, luQ, kSameMatrix) && sameTo(lt, luL, kSameMatrix);
+      if (luAtSolution) {
+        st.sensitivityReusedLu++;
+      } else {
+        newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
+        st.jacobianEvaluations++;
+      }
+      const SpMat& A = acc.matrix();  // read only when assembled here
       kv.begin(n, n);
       as.addForceJacobian(kv, qf, vf, p, 0.0, -1.0, 0, 0, 0);
       const SpMat dQdv = kv.finish();
@@ -474,8 +500,8 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       const double s = gmresColumns > 0 ? double(gmresSolves) / double(gmresColumns) : 3.0;
       const double iterate = double(np) * (s * perSolve + 2.0 * double(n + m) * s * s);
       const double factor = 2.0 * lu.factorFlops() + double(np) * 2.0 * perSolve;
-      bool exact = np > 1 && iterate > factor && lu.factorFlops() > 0.0;
-      if (exact) {
+      bool exact = luAtSolution || (np > 1 && iterate > factor && lu.factorFlops() > 0.0);
+      if (exact && !luAtSolution) {
         lu.factor(A, what);
         st.sensitivityFactorizations++;
       }

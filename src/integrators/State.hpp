@@ -31,6 +31,9 @@ struct IntegratorStats {
   /// (preconditioned GMRES), and the factorizations of the exact matrix they fell back to.
   long sensitivityIterations = 0;
   long sensitivityFactorizations = 0;
+  /// Fixed step: steps whose sensitivity solve used Newton's LU as is, because Newton had
+  /// factorized it at the converged point to round-off (no assembly, no iteration).
+  long sensitivityReusedLu = 0;
   long residualEvaluations = 0;
   long jacobianEvaluations = 0;
   long errorTestFailures = 0;
