@@ -163,6 +163,39 @@ TEST(SparseAccumulator, ReusesPatternAndRebuildsWhenSequenceChanges) {
   EXPECT_EQ(A(2, 1), 0.0);
 }
 
+TEST(SparseAccumulator, BlocksReplayAndRebuildWhenTheSequenceChangesInsideABlock) {
+  // addBlock's replay against a dense sum of the same blocks: the same blocks again (values
+  // only), then a block whose map changes in its middle (the rest of it, and what follows,
+  // recorded anew), then the new sequence replayed.
+  const MatX B = (MatX(3, 3) << 1, 2, 3, 4, 5, 6, 7, 8, 9).finished();
+  const std::vector<int> mapA = {0, -1, 2}, mapB = {3, 1, 2}, mapC = {3, 1, 0};
+  SparseAccumulator acc;
+  auto assemble = [&](const std::vector<int>& second, double s) {
+    acc.begin(4, 4);
+    acc.addBlock(mapA, mapA, B, s);
+    acc.addBlock(second, mapA, B, 2.0 * s, 0, 0);
+    acc.addBlock(mapB, second, B, -s);
+    return MatX(acc.finish());
+  };
+  auto dense = [&](const std::vector<int>& second, double s) {
+    MatX D = MatX::Zero(4, 4);
+    auto put = [&](const std::vector<int>& rows, const std::vector<int>& cols, double f) {
+      for (size_t j = 0; j < cols.size(); ++j)
+        for (size_t i = 0; i < rows.size(); ++i)
+          if (rows[i] >= 0 && cols[j] >= 0) D(rows[i], cols[j]) += f * B(Eigen::Index(i), Eigen::Index(j));
+    };
+    put(mapA, mapA, s);
+    put(second, mapA, 2.0 * s);
+    put(mapB, second, -s);
+    return D;
+  };
+  EXPECT_EQ(assemble(mapB, 1.0), dense(mapB, 1.0));    // recorded
+  EXPECT_EQ(assemble(mapB, 0.5), dense(mapB, 0.5));    // replayed
+  EXPECT_EQ(assemble(mapC, 1.5), dense(mapC, 1.5));    // changed at the second block's third row
+  EXPECT_EQ(assemble(mapC, -2.0), dense(mapC, -2.0));  // the new sequence replayed
+  EXPECT_EQ(assemble(mapB, 3.0), dense(mapB, 3.0));    // and back
+}
+
 TEST(Assembly, ForceJacobiansMatchFiniteDifferences) {
   checkForceJacobians(mixedScene());
   checkForceJacobians(mixedScene3D());

@@ -192,6 +192,9 @@ class Assembler {
   const std::vector<int>& constraintsDependingOn(int k, const VecX& q, const VecX& p) const;
   mutable std::vector<std::optional<std::vector<int>>> paramElements_, paramConstraints_;  ///< by k
   mutable std::vector<MatX> masses_;
+  /// Per constraint with a constant Hessian: its structural nonzeros (column-major local
+  /// indices j nl + i), found at the first addHessian.
+  mutable std::vector<std::optional<std::vector<int>>> hessianPattern_;
   mutable std::optional<VecX> massesAt_;  ///< the p of masses_ and massDerivatives_
   /// dM_e/dp_k of the elements whose mass depends on p_k, kept like masses_ (the sensitivity
   /// right-hand sides asked for them at every step and parameter: 8% of the five-bar's run

@@ -24,9 +24,32 @@ void SparseAccumulator::begin(int rows, int cols) {
 
 void SparseAccumulator::addBlock(const std::vector<int>& rowMap, const std::vector<int>& colMap,
                                  const MatX& B, double s, int64_t r0, int64_t c0) {
-  for (size_t j = 0; j < colMap.size(); ++j) {
+  size_t j = 0, i = 0;
+  if (!recording_) {
+    // The replay, with the members in locals (add() reloads them after every store): the
+    // Newton matrix's scatter, 5% of the satellite's run, 11% of the five-bar's.
+    double* val = mat_.valuePtr();
+    const uint64_t* key = key_.data();
+    const int64_t* slot = slot_.data();
+    const size_t count = slot_.size();
+    size_t k = k_;
+    for (; j < colMap.size(); ++j) {
+      if (colMap[j] < 0) continue;
+      const double* Bj = B.col(Eigen::Index(j)).data();
+      for (i = 0; i < rowMap.size(); ++i) {
+        if (rowMap[i] < 0) continue;
+        if (k >= count || key[k] != keyOf(r0 + rowMap[i], c0 + colMap[j])) goto changed;
+        val[slot[k++]] += s * Bj[i];
+      }
+    }
+    k_ = k;
+    return;
+  changed:  // the sequence changed: the rest of the block through add(), which rebuilds
+    k_ = k;
+  }
+  for (; j < colMap.size(); ++j, i = 0) {
     if (colMap[j] < 0) continue;
-    for (size_t i = 0; i < rowMap.size(); ++i) {
+    for (; i < rowMap.size(); ++i) {
       if (rowMap[i] < 0) continue;
       add(r0 + rowMap[i], c0 + colMap[j], s * B(i, j));
     }
