@@ -175,9 +175,8 @@ class Assembler {
   /// Gravity at the p of the current evaluation when a component is a design parameter
   /// (elements read gravity through a pointer). Makes an Assembler single-threaded.
   mutable VecX gravityAtP_;
-  void fillLocalState(LocalState& s, const std::vector<int>& nodes, const VecX& q, const VecX& v,
-                      const VecX& p, int gradients) const;
-  /// The same, with the entries' dofs from map (elemDofs_, consDofs_).
+  /// The local state of nodes (gradients per node as in LocalState) at (q, v, p) into s, the
+  /// entries' dofs from map (dofMap(nodes, gradients): elemDofs_, consDofs_).
   void gatherLocalState(LocalState& s, const std::vector<int>& nodes, const std::vector<int>& map, const VecX& q,
                         const VecX& v, const VecX& p, int gradients) const;
   void setEvaluationPoint(LocalState& s, const VecX& p) const;  ///< p, t and gravity of s

@@ -442,11 +442,13 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       const VecX& qf = sc.forcePoint(q, old.q, qfBuf);
       const VecX& vf = sc.forcePoint(next.v, old.v, vfBuf);
       // The LU Newton kept is of the matrix at the converged point when this step factorized
-      // it at an iterate within round-off of that point (full Newton's last update; the
-      // flexible five-bar's are below 1e-14 relative, the satellite's 1e-10..1e-15): the
-      // matrix assembled there would be the same to its last digits. Then the right-hand
-      // sides are solved with it (refined against the matrix it factorized) and the assembly
-      // is skipped: it was 0.15 of a one-parameter five-bar run.
+      // it at an iterate within round-off of that point (full Newton's last update: 1e-14 to
+      // 1e-16 relative on the flexible five-bar refined, n >= 20; 1e-10 to 1e-15 on the
+      // satellite; ~1e-11 at the five-bar's n = 8, which stops after 2 iterations): the matrix
+      // assembled there would be the same to its last digits. Then the right-hand sides are
+      // solved with it (refined against the matrix it factorized) and the assembly is skipped:
+      // it was 0.15 of a one-parameter five-bar run (refine 16). With the last iterate's
+      // matrix at newton_tol instead the sensitivities moved by 5e-7 relative: not exact.
       const bool luAtSolution = luStep == step && factoredCa == sc.ca && lu.factorized() &&
                                 sameTo(q, luQ, kSameMatrix) && sameTo(lt, luL, kSameMatrix);
       if (luAtSolution) {
@@ -455,7 +457,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
         st.jacobianEvaluations++;
       }
-      const SpMat& A = acc.matrix();  // read only when assembled here
+      const SpMat& A = acc.matrix();  // its values are read only when assembled here
       kv.begin(n, n);
       as.addForceJacobian(kv, qf, vf, p, 0.0, -1.0, 0, 0, 0);
       const SpMat dQdv = kv.finish();
