@@ -76,6 +76,12 @@ static void checkConstraintDerivatives(const Scene& sc) {
   JT.begin(as.n(), as.m());
   as.addPhiQ(JT, q, p, 1.0, 0, 0, true);
   EXPECT_LT(relErr(MatX(JT.finish()), MatX(fdJ.transpose())), 1e-8);
+  // The residual's Phi and Phi_q^T w in one pass: Phi itself, and the transpose of the
+  // differenced Jacobian times w.
+  VecX phi, phiQTw;
+  as.constraintTerms(q, p, w, phi, phiQTw);
+  EXPECT_EQ(phi, as.phi(q, p));
+  EXPECT_LT(relErr(phiQTw, VecX(fdJ.transpose() * w)), 1e-8);
   // Hessian contraction: d(Phi_q^T w)/dq.
   H.begin(as.n(), as.n());
   as.addHessian(H, q, p, w, 1.0, 0, 0);
@@ -111,6 +117,10 @@ static void checkParameterDerivatives(const Scene& sc) {
     EXPECT_LT(relErr(as.phiQParamDerivativeTimes(q, p, k, v), inP([&](const VecX& pp) { return as.phiQTimes(q, pp, v); })), 1e-7);
     EXPECT_LT(relErr(as.phiQParamDerivativeTransposeTimes(q, p, k, l),
                      inP([&](const VecX& pp) { return as.phiQTransposeTimes(q, pp, l); })), 1e-7);
+    VecX phiP, phiQPTl;  // both in one pass, as the fixed-step sensitivity right-hand sides take them
+    as.constraintParamTerms(q, p, k, l, phiP, phiQPTl);
+    EXPECT_LT(relErr(phiP, inP([&](const VecX& pp) { return as.phi(q, pp); })), 1e-7);
+    EXPECT_LT(relErr(phiQPTl, inP([&](const VecX& pp) { return as.phiQTransposeTimes(q, pp, l); })), 1e-7);
   }
 }
 

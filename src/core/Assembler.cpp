@@ -643,20 +643,22 @@ VecX Assembler::phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, co
 
 VecX Assembler::phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, int k,
                                                   const VecX& l) const {
-  VecX r = VecX::Zero(n());
-  VecX dphi;
-  MatX dJ;
+  VecX phiP, r;
+  constraintParamTerms(q, p, k, l, phiP, r);
+  return r;
+}
+
+void Assembler::constraintParamTerms(const VecX& q, const VecX& p, int k, const VecX& l, VecX& phiP,
+                                     VecX& phiQPTl) const {
+  phiP.setZero(m());
+  phiQPTl.setZero(n());
   for (int ci : constraintsDependingOn(k, q, p)) {
     const size_t c = size_t(ci);
     const auto& co = *cons_[c];
-    if (!constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, dphi, dJ) || !dJ.size())
-      continue;
-    const VecX g = dJ.transpose() * l.segment(consRow_[c], co.rows());
-    const auto& map = consDofs_[c];
-    for (size_t j = 0; j < map.size(); ++j)
-      if (map[j] >= 0) r[map[j]] += g[j];
+    if (!constraintParameterDerivative(co, constraintState(c, q, VecX(), p), k, paramDphi_, paramDJ_)) continue;
+    phiP.segment(consRow_[c], co.rows()) = paramDphi_;
+    if (paramDJ_.size()) addTransposeTimes(paramDJ_, consDofs_[c], l.segment(consRow_[c], co.rows()), phiQPTl);
   }
-  return r;
 }
 
 }  // namespace flexsens

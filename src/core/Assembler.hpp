@@ -64,6 +64,9 @@ class Assembler {
   /// Phi and Phi_q^T l in one pass over the constraints (each gathered once): the Newton
   /// residual needs both at every iteration.
   void constraintTerms(const VecX& q, const VecX& p, const VecX& l, VecX& phi, VecX& phiQTl) const;
+  /// Phi_p and Phi_qp^T l for parameter k in one pass (each constraint's derivative computed
+  /// once): the fixed-step sensitivity right-hand sides need both.
+  void constraintParamTerms(const VecX& q, const VecX& p, int k, const VecX& l, VecX& phiP, VecX& phiQPTl) const;
   VecX hessianQuadratic(const VecX& q, const VecX& p, const VecX& v) const;  ///< (v^T H_i v)_i
   VecX hessianTimes(const VecX& q, const VecX& p, const VecX& w, const VecX& x) const;  ///< (sum w_i H_i) x
   VecX hessianRowsTimes(const VecX& q, const VecX& p, const VecX& v, const VecX& x) const;  ///< (v^T H_i x)_i
@@ -191,6 +194,8 @@ class Assembler {
   const std::vector<int>& constraintsDependingOn(int k, const VecX& q, const VecX& p) const;
   mutable std::vector<std::optional<std::vector<int>>> paramElements_, paramConstraints_;  ///< by k
   mutable std::vector<MatX> masses_;
+  mutable VecX paramDphi_;  ///< constraintParamTerms' per-constraint storage
+  mutable MatX paramDJ_;
   /// Per constraint with a constant Hessian: its structural nonzeros (column-major local
   /// indices j nl + i), found at the first addHessian.
   mutable std::vector<std::optional<std::vector<int>>> hessianPattern_;

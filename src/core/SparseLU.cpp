@@ -130,18 +130,26 @@ void SparseLU::solve(MatX& b, bool refine) const {
   // solve can lose digits there; refined, the backward error stays at round-off
   // (test_sparse_lu: 1.6e-16 as two constraint rows become parallel). An accurate solve costs
   // one pass over A.
+  const auto* outer = pattern_.outerIndexPtr();
+  const auto* inner = pattern_.innerIndexPtr();
+  const double* value = pattern_.valuePtr();
   for (int pass = 0; pass < 2; ++pass) {
     r = b;  // r = b - A x, scale = |A| |x| + |b|
     scale = b.cwiseAbs();
-    for (Eigen::Index c = 0; c < x.cols(); ++c)
+    for (Eigen::Index c = 0; c < x.cols(); ++c) {  // over A's arrays (the iterator cost 2x here)
+      const double* xc = x.col(c).data();
+      double* rc = r.col(c).data();
+      double* sc = scale.col(c).data();
       for (Eigen::Index j = 0; j < pattern_.outerSize(); ++j) {
-        const double xj = x(j, c);
+        const double xj = xc[j];
         if (xj == 0.0) continue;
-        for (SpMat::InnerIterator it(pattern_, j); it; ++it) {
-          r(it.row(), c) -= it.value() * xj;
-          scale(it.row(), c) += std::abs(it.value() * xj);
+        for (auto k = outer[j]; k < outer[j + 1]; ++k) {
+          const double t = value[k] * xj;
+          rc[inner[k]] -= t;
+          sc[inner[k]] += std::abs(t);
         }
       }
+    }
     double omega = 0.0;
     for (Eigen::Index c = 0; c < x.cols(); ++c)
       for (Eigen::Index i = 0; i < x.rows(); ++i)

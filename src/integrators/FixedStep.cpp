@@ -192,7 +192,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   bool slowChord = false;  // the last step's chord contracted slower than kAndersonAbove
   std::vector<State> dnext;  // the next step's sensitivities
   MatX X, hist;              // their right-hand sides and history terms, kept across steps
-  VecX phiBuf, phiQTlBuf;    // the residual's constraint terms
+  VecX phiBuf, phiQTlBuf;    // the residual's constraint terms (and their p-derivatives)
   VecX luQ, luL;             // the iterate (q, sigma lambda) lu's matrix was assembled at ...
   long luStep = 0;           // ... in this step
   VecX dabar, dvbar;
@@ -483,9 +483,10 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
           forceTerm += dQdv * vh;
+        as.constraintParamTerms(q, p, int(k), lt, phiBuf, phiQTlBuf);  // Phi_p, Phi_qp^T sigma lambda
         X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), next.a) + M * ah - forceTerm) +
-                             as.phiQParamDerivativeTransposeTimes(q, p, int(k), lt));
-        if (m) X.col(k).tail(m) = -as.phiParamDerivative(q, p, int(k));
+                             phiQTlBuf);
+        X.col(k).tail(m) = -phiBuf;
       }
       // Named only when factorized (formatting t every step cost 3% of a small model's run).
       auto what = [t]() { return "sensitivity matrix at t = " + std::to_string(t) + " s"; };
