@@ -39,7 +39,7 @@ class SparseAccumulator {
  private:
   /// (row, column) in one word: the check of each addition against the recorded sequence reads
   /// 8 bytes, not a 24-byte triplet (the Newton matrix's ~50k additions, 5% of the satellite's
-  /// run). Rows and columns are below 2^32.
+  /// run). Rows and columns are below 2^31 (begin() takes ints).
   static uint64_t keyOf(int64_t r, int64_t c) { return (uint64_t(r) << 32) | uint64_t(c); }
   void rebuildFrom(size_t k, int64_t r, int64_t c, double v);
   void build();
