@@ -573,9 +573,15 @@ void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX
 
 // ------------------------------------------------------------------ parameter derivatives
 VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k) const {
-  VecX r = VecX::Zero(n());
-  VecX dQ;
-  MatX dM;
+  VecX r;
+  forceParamDerivative(q, v, p, k, r);
+  return r;
+}
+
+void Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k, VecX& r) const {
+  r.setZero(n());
+  VecX& dQ = paramDQ_;  // kept: the sensitivity right-hand sides ask at every step and parameter
+  MatX& dM = paramDM_;
   // Gravity loads are M times the uniform acceleration (rigid bars and consistent beam
   // masses alike), so d Q / d g_c = M_e e_c element by element.
   for (size_t c = 0; c < model_.gravityParam.size(); ++c) {
@@ -601,18 +607,24 @@ VecX Assembler::forceParamDerivative(const VecX& q, const VecX& v, const VecX& p
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) r[map[i]] += dQ[i];
   }
-  return r;
 }
 
 VecX Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a) const {
-  VecX r = VecX::Zero(n());
+  VecX r;
+  massParamDerivativeTimes(p, k, a, r);
+  return r;
+}
+
+void Assembler::massParamDerivativeTimes(const VecX& p, int k, const VecX& a, VecX& r) const {
+  r.setZero(n());
+  VecX& al = paramDQ_;
   for (const auto& [e, dM] : elementMassDerivatives(p, k)) {
     const auto& map = elemDofs_[size_t(e)];
-    const VecX g = dM * gather(map, a);
+    al.resize(Eigen::Index(map.size()));
+    for (size_t i = 0; i < map.size(); ++i) al[Eigen::Index(i)] = map[i] >= 0 ? a[map[i]] : 0.0;
     for (size_t i = 0; i < map.size(); ++i)
-      if (map[i] >= 0) r[map[i]] += g[i];
+      if (map[i] >= 0) r[map[i]] += dM.row(Eigen::Index(i)).dot(al);
   }
-  return r;
 }
 
 VecX Assembler::phiParamDerivative(const VecX& q, const VecX& p, int k) const {

@@ -127,6 +127,10 @@ class Assembler {
   // --- partial derivatives with respect to design parameter k -------------------------
   VecX forceParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k) const;  ///< Q_p
   VecX massParamDerivativeTimes(const VecX& p, int k, const VecX& a) const;           ///< M_p a
+  /// The same two into r's storage (the fixed-step sensitivity right-hand sides, every step
+  /// and parameter: their vectors were a tenth of the ten-parameter five-bar's overhead).
+  void forceParamDerivative(const VecX& q, const VecX& v, const VecX& p, int k, VecX& r) const;
+  void massParamDerivativeTimes(const VecX& p, int k, const VecX& a, VecX& r) const;
   VecX phiParamDerivative(const VecX& q, const VecX& p, int k) const;                  ///< Phi_p
   VecX phiQParamDerivativeTimes(const VecX& q, const VecX& p, int k, const VecX& x) const;  ///< Phi_qp x
   VecX phiQParamDerivativeTransposeTimes(const VecX& q, const VecX& p, int k,
@@ -196,6 +200,8 @@ class Assembler {
   mutable std::vector<MatX> masses_;
   mutable VecX paramDphi_;  ///< constraintParamTerms' per-constraint storage
   mutable MatX paramDJ_;
+  mutable VecX paramDQ_;    ///< forceParamDerivative's and massParamDerivativeTimes' element storage
+  mutable MatX paramDM_;
   /// Per constraint with a constant Hessian: its structural nonzeros (column-major local
   /// indices j nl + i), found at the first addHessian.
   mutable std::vector<std::optional<std::vector<int>>> hessianPattern_;

@@ -193,6 +193,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   std::vector<State> dnext;  // the next step's sensitivities
   MatX X, hist;              // their right-hand sides and history terms, kept across steps
   VecX phiBuf, phiQTlBuf;    // the residual's constraint terms (and their p-derivatives)
+  VecX forceTerm, inertiaTerm;  // the sensitivity right-hand sides' force and inertia parts
   VecX luQ, luL;             // the iterate (q, sigma lambda) lu's matrix was assembled at ...
   long luStep = 0;           // ... in this step
   VecX dabar, dvbar;
@@ -478,14 +479,16 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         ah = -sc.ca * dold.q + dabar;
         vh = -sc.cv * dold.q + dvbar;
         // d(qf, vf)/dp at fixed q_{n+1}: ((1 - fw) dq_n, fw vh + (1 - fw) dv_n).
-        VecX forceTerm = as.forceParamDerivative(qf, vf, p, int(k));
+        // Into kept vectors (no heap traffic per step and parameter): Q_p + dQ/d(q, v) terms.
+        as.forceParamDerivative(qf, vf, p, int(k), forceTerm);
         if (sc.fw != 1.0)
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
-          forceTerm += dQdv * vh;
+          forceTerm.noalias() += dQdv * vh;
         as.constraintParamTerms(q, p, int(k), lt, phiBuf, phiQTlBuf);  // Phi_p, Phi_qp^T sigma lambda
-        X.col(k).head(n) = -(sigma * (as.massParamDerivativeTimes(p, int(k), next.a) + M * ah - forceTerm) +
-                             phiQTlBuf);
+        as.massParamDerivativeTimes(p, int(k), next.a, inertiaTerm);    // M_p a, then + M ah
+        inertiaTerm.noalias() += M * ah;
+        X.col(k).head(n) = -(sigma * (inertiaTerm - forceTerm) + phiQTlBuf);
         X.col(k).tail(m) = -phiBuf;
       }
       // Named only when factorized (formatting t every step cost 3% of a small model's run).
