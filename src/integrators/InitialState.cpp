@@ -289,12 +289,10 @@ void masslessSensitivity(const Assembler& as, const State& x, const VecX& p, int
   const MasslessBlock b(as, x.q, x.v, x.lambda, p, mc);
   // d/dp_k of F = Phi_q^T lambda - Q and Phi_C at fixed massless unknowns.
   const VecX qo = b.others(d.q);
-  VecX dF = b.K * qo - as.forceParamDerivative(x.q, x.v, p, k);
-  VecX dG = VecX::Zero(m);
-  if (m) {
-    dF += as.phiQParamDerivativeTransposeTimes(x.q, p, k, x.lambda);
-    dG = b.Jq * qo + as.phiParamDerivative(x.q, p, k);
-  }
+  VecX phiP, phiQPTl;  // Phi_p, Phi_qp^T lambda
+  as.constraintParamTerms(x.q, p, k, x.lambda, phiP, phiQPTl);
+  const VecX dF = b.K * qo - as.forceParamDerivative(x.q, x.v, p, k) + phiQPTl;
+  const VecX dG = m ? VecX(b.Jq * qo + phiP) : VecX();
   const VecX z = b.solve(as, VecX(-b.stack(dF, dG)));
   for (size_t i = 0; i < mc.size(); ++i) d.q[mc[i]] = z[i];
   const VecX vo = b.others(d.v);

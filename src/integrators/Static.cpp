@@ -140,12 +140,11 @@ StaticSensitivity staticSensitivities(const Assembler& as, const VecX& q, const 
   lu.factor(J, "static sensitivity matrix [-dQ/dq + H(lambda), Phi_q^T; Phi_q, 0] at the equilibrium");
   StaticSensitivity out{MatX(n, np), MatX(m, np)};
   for (int k = 0; k < np; ++k) {
+    VecX phiP, phiQPTl;  // Phi_p, Phi_qp^T lambda
+    as.constraintParamTerms(q, p, k, lambda, phiP, phiQPTl);
     VecX rp(n + m);
-    rp.head(n) = -as.forceParamDerivative(q, v, p, k);
-    if (m) {
-      rp.head(n) += as.phiQParamDerivativeTransposeTimes(q, p, k, lambda);
-      rp.tail(m) = as.phiParamDerivative(q, p, k);
-    }
+    rp.head(n) = phiQPTl - as.forceParamDerivative(q, v, p, k);
+    rp.tail(m) = phiP;
     VecX x = lu.solve(VecX(-rp));
     x += lu.solve(VecX(-rp - J * x));  // one step of iterative refinement
     out.qp.col(k) = x.head(n);
