@@ -16,19 +16,33 @@ VecT<T> DistanceConstraint::phiT(const LocalState& s, const VecT<T>& x, const Ve
   return out;
 }
 
+// The double paths below write into the caller's storage without temporaries: the residual
+// and the Newton matrix evaluate every distance at every iteration (the rigid five-bar's and
+// the flexible one's bars), and their heap temporaries were a third of those calls.
+void DistanceConstraint::phi(const LocalState& s, VecX& out) const {
+  const int d = s.dim;
+  const double L = s.value(length_);
+  out.resize(1);
+  out[0] = (s.x.tail(d) - s.x.head(d)).squaredNorm() - L * L;
+}
+
 void DistanceConstraint::jacobian(const LocalState& s, MatX& J) const {
   const int d = s.dim;
-  const VecX dx = s.x.tail(d) - s.x.head(d);
   J.resize(1, 2 * d);
-  J.row(0).head(d) = -2.0 * dx.transpose();
-  J.row(0).tail(d) = 2.0 * dx.transpose();
+  for (int i = 0; i < d; ++i) {
+    const double dx = s.x[d + i] - s.x[i];
+    J(0, i) = -2.0 * dx;
+    J(0, d + i) = 2.0 * dx;
+  }
 }
 
 void DistanceConstraint::hessian(const LocalState& s, int, MatX& H) const {
   const int d = s.dim;
-  const MatX I = MatX::Identity(d, d);
-  H.resize(2 * d, 2 * d);
-  H << 2 * I, -2 * I, -2 * I, 2 * I;
+  H.setZero(2 * d, 2 * d);
+  for (int i = 0; i < d; ++i) {
+    H(i, i) = H(d + i, d + i) = 2.0;
+    H(i, d + i) = H(d + i, i) = -2.0;
+  }
 }
 
 bool DistanceConstraint::parameterDerivative(const LocalState& s, int k, VecX& dphi,

@@ -12,6 +12,8 @@ class DistanceConstraint : public KernelConstraint<DistanceConstraint> {
       : KernelConstraint(std::move(name), {a, b}), length_(length) {}
   std::string kind() const override { return "distance"; }
   int rows() const override { return 1; }
+  /// phiT for double, into out's storage (no property or result vector per call).
+  void phi(const LocalState& s, VecX& out) const override;
   void jacobian(const LocalState& s, MatX& J) const override;
   void hessian(const LocalState& s, int r, MatX& H) const override;
   bool constantHessian() const override { return true; }

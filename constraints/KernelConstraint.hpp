@@ -23,6 +23,9 @@ class KernelConstraint : public Constraint {
  public:
   using Constraint::Constraint;
   void phi(const LocalState& s, VecX& out) const override;
+  /// Phi by the value template (phi() unless Derived writes its own double path for speed;
+  /// the tests compare the two).
+  VecX kernelPhi(const LocalState& s) const;
   void jacobianAD(const LocalState& s, MatX& J) const override;
   void hessianAD(const LocalState& s, int r, MatX& H) const override;
   bool parameterDerivativeAD(const LocalState& s, int k, VecX& dphi, MatX& dJ) const override;

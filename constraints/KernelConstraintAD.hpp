@@ -16,7 +16,12 @@ VecX KernelConstraint<Derived>::kernelPropertyValues(const LocalState& s) const 
 
 template <class Derived>
 void KernelConstraint<Derived>::phi(const LocalState& s, VecX& out) const {
-  out = self().template phiT<double>(s, s.x, kernelPropertyValues(s));
+  out = kernelPhi(s);
+}
+
+template <class Derived>
+VecX KernelConstraint<Derived>::kernelPhi(const LocalState& s) const {
+  return self().template phiT<double>(s, s.x, kernelPropertyValues(s));
 }
 
 template <class Derived>

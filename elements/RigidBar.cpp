@@ -32,6 +32,16 @@ VecT<T> RigidBar::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
   return Q;
 }
 
+// The double paths of force() (here and the spring-damper's) write into the caller's
+// storage: the residual evaluates every element at every Newton iteration, and the kernels'
+// property and result vectors were a malloc/free pair each (n = 8 flexible five-bar).
+void RigidBar::force(const LocalState& s, VecX& Q) const {
+  const int d = s.dim;
+  const double w = 0.5 * s.value(mass_);  // half the weight on each end [kg]
+  Q.resize(2 * d);
+  for (int i = 0; i < d; ++i) Q[i] = Q[d + i] = w * (*s.gravity)[i];
+}
+
 void RigidBar::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   dQdq.setZero(2 * s.dim, 2 * s.dim);
   dQdv.setZero(2 * s.dim, 2 * s.dim);
@@ -117,6 +127,20 @@ VecT<T> SpringDamper::forceT(const LocalState& s, const VecT<T>& x, const VecT<T
   Q.head(d) = f * u;
   Q.tail(d) = -f * u;
   return Q;
+}
+
+void SpringDamper::force(const LocalState& s, VecX& Q) const {
+  const int d = s.dim;
+  const Geometry g = geometry(s);
+  Q.resize(2 * d);
+  if (g.zeroLength) {  // coincident nodes: only k dx is defined (geometry checked it may be)
+    Q.head(d) = s.value(k_) * g.dx;
+    Q.tail(d) = -s.value(k_) * g.dx;
+    return;
+  }
+  const double f = s.value(k_) * (g.l - s.value(L0_)) + s.value(c_) * g.ldot;  // tension [N]
+  Q.head(d) = f * g.u;
+  Q.tail(d) = -f * g.u;
 }
 
 void SpringDamper::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {

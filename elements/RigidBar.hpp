@@ -12,6 +12,8 @@ class RigidBar : public KernelElement<RigidBar> {
   RigidBar(std::string name, int a, int b, Quantity mass)
       : KernelElement(std::move(name), {a, b}), mass_(mass) {}
   std::string kind() const override { return "rigid_bar"; }
+  /// forceT for double, into Q's storage (no property or result vector per call).
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
@@ -38,6 +40,8 @@ class SpringDamper : public KernelElement<SpringDamper> {
   SpringDamper(std::string name, int a, int b, Quantity k, Quantity c, Quantity L0)
       : KernelElement(std::move(name), {a, b}), k_(k), c_(c), L0_(L0) {}
   std::string kind() const override { return "spring_damper"; }
+  /// forceT for double, into Q's storage (no property or result vector per call).
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   /// A spring with damping 0 that no parameter can change has dQ/dv = 0.
   bool velocityDependent() const override { return c_.param >= 0 || c_.constant != 0.0; }

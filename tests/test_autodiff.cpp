@@ -144,6 +144,14 @@ TEST(AutoDiff, RigidBar) {
     RigidBar e("bar", 0, 1, Quantity{0.0, 0});
     Local l(dim, randomVec(2 * dim, 1 + dim, 1.0), randomVec(2 * dim, 2, 1.0), VecX::Constant(1, 1.7));
     checkElement(e, l.s, 1, false, false);
+    // force() is written for double apart from the value template: half the weight m g on
+    // each end
+    VecX Q;
+    e.force(l.s, Q);
+    EXPECT_LT(rel(Q, e.kernelForce(l.s)), 1e-14);
+    VecX weight(2 * dim);
+    weight << 0.5 * 1.7 * l.g, 0.5 * 1.7 * l.g;
+    EXPECT_LT(rel(Q, weight), 1e-15);
   }
 }
 
@@ -153,6 +161,15 @@ TEST(AutoDiff, SpringDamperWithDamping) {
     Local l(dim, randomVec(2 * dim, 3 + dim, 1.0), randomVec(2 * dim, 4 + dim, 2.0),
             (VecX(3) << 50.0, 3.0, 0.4).finished());
     checkElement(e, l.s, 3, true, true);
+    // force() is written for double apart from the value template; both against the tension
+    // k (l - L0) + c dl/dt along the unit vector a -> b, pulling b back
+    VecX Q;
+    e.force(l.s, Q);
+    EXPECT_LT(rel(Q, e.kernelForce(l.s)), 1e-14);
+    const VecX dx = l.s.x.tail(dim) - l.s.x.head(dim), u = dx.normalized();
+    const double tension = 50.0 * (dx.norm() - 0.4) + 3.0 * u.dot(l.s.v.tail(dim) - l.s.v.head(dim));
+    EXPECT_LT(rel(Q.tail(dim), VecX(-tension * u)), 1e-13);
+    EXPECT_LT(rel(Q.head(dim), VecX(tension * u)), 1e-13);
   }
 }
 
@@ -262,6 +279,12 @@ TEST(AutoDiff, DistanceConstraint) {
     DistanceConstraint c("d", 0, 1, Quantity{0.0, 0});
     Local l(dim, randomVec(2 * dim, 15 + dim, 1.0), VecX::Zero(2 * dim), VecX::Constant(1, 1.3));
     checkConstraint(c, l.s, 1, true);
+    // phi() is written for double apart from the value template: |x_b - x_a|^2 - L^2
+    VecX phi;
+    c.phi(l.s, phi);
+    EXPECT_LT(rel(phi, c.kernelPhi(l.s)), 1e-14);
+    ASSERT_EQ(phi.size(), 1);
+    EXPECT_NEAR(phi[0], (l.s.x.tail(dim) - l.s.x.head(dim)).squaredNorm() - 1.3 * 1.3, 1e-14);
   }
 }
 

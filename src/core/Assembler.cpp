@@ -34,9 +34,12 @@ Assembler::Assembler(const Model& model, const ConstraintList* constraints, Deri
   for (const auto& c : cons_) {
     consDofs_.push_back(dofMap(c->nodes(), c->gradients()));
     consRow_.push_back(m_);
+    consRows_.push_back(iota(m_, c->rows()));
     m_ += c->rows();
     rheonomic_ = rheonomic_ || c->rheonomic();
   }
+  elemOut_.resize(model_.elements.size());
+  consOut_.resize(cons_.size());
 }
 
 void Assembler::setLoadFactor(double s) const { loadFactor_ = s; }
@@ -175,19 +178,18 @@ const std::vector<int>& Assembler::constraintsDependingOn(int k, const VecX& q, 
 }
 
 // ----------------------------------------------------------------------------- vectors
-VecX Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly) const {
-  VecX Q = VecX::Zero(n());
-  VecX Ql;
+void Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly, VecX& Q) const {
+  Q.setZero(n());
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     if (potentialOnly && el.externalWork()) continue;  // no potential: all its force is work
+    VecX& Ql = elemOut_[e].vec;
     el.force(elementState(e, q, v, p), Ql);
     if (el.isLoad()) Ql *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) Q[map[i]] += Ql[i];
   }
-  return Q;
 }
 
 double Assembler::nonConservativePower(const VecX& q, const VecX& v, const VecX& p) const {
@@ -216,9 +218,9 @@ double Assembler::nonConservativePower(const VecX& q, const VecX& v, const VecX&
 
 VecX Assembler::phi(const VecX& q, const VecX& p) const {
   VecX r(m());
-  VecX pl;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
+    VecX& pl = consOut_[c].vec;
     co.phi(constraintState(c, q, VecX(), p), pl);
     r.segment(consRow_[c], co.rows()) = pl;
   }
@@ -227,9 +229,9 @@ VecX Assembler::phi(const VecX& q, const VecX& p) const {
 
 VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
   VecX r = VecX::Zero(m());
-  MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
+    MatX& J = consOut_[c].a;
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     const auto& map = consDofs_[c];
     for (size_t j = 0; j < map.size(); ++j)
@@ -240,9 +242,9 @@ VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
 
 VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const {
   VecX r = VecX::Zero(n());
-  MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
+    MatX& J = consOut_[c].a;
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     addTransposeTimes(J, consDofs_[c], l.segment(consRow_[c], co.rows()), r);
   }
@@ -252,10 +254,10 @@ VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) 
 void Assembler::constraintTerms(const VecX& q, const VecX& p, const VecX& l, VecX& phi, VecX& phiQTl) const {
   phi.resize(m());
   phiQTl.setZero(n());
-  VecX pl;
-  MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
+    VecX& pl = consOut_[c].vec;
+    MatX& J = consOut_[c].a;
     const LocalState& s = constraintState(c, q, VecX(), p);
     co.phi(s, pl);
     phi.segment(consRow_[c], co.rows()) = pl;
@@ -386,7 +388,7 @@ void Assembler::addPhiQT(SparseAccumulator& acc, const VecX& q, const VecX& p, d
     const auto& co = *cons_[c];
     if (!co.rheonomic()) continue;
     co.timeDerivatives(constraintState(c, q, VecX(), p), pt, pqt, g, dg);
-    acc.addBlock(iota(consRow_[c], co.rows()), consDofs_[c], pqt, s, r0, c0);
+    acc.addBlock(consRows_[c], consDofs_[c], pqt, s, r0, c0);
   }
 }
 
@@ -481,10 +483,11 @@ void Assembler::addForceJacobians(SparseAccumulator& kq, SparseAccumulator& kv,
 void Assembler::addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, const VecX& v,
                                         const VecX& p, double sm, double sq, double sv, int64_t r0,
                                         int64_t c0) const {
-  MatX Kq, Kv;
   const std::vector<MatX>* masses = sm != 0.0 ? &elementMasses(p) : nullptr;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
+    MatX& Kq = elemOut_[e].a;
+    MatX& Kv = elemOut_[e].b;
     elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     Kq *= -sq * lf;
@@ -496,11 +499,11 @@ void Assembler::addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, c
 
 void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, double s,
                         int64_t r0, int64_t c0, bool transposed) const {
-  MatX J;
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
+    MatX& J = consOut_[c].a;
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
-    const std::vector<int> rows = iota(consRow_[c], co.rows());
+    const std::vector<int>& rows = consRows_[c];
     if (transposed)
       acc.addBlock(consDofs_[c], rows, J.transpose(), s, r0, c0);
     else
@@ -510,11 +513,12 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
 
 void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p, const VecX& w,
                            double s, int64_t r0, int64_t c0) const {
-  MatX H, sum;
-  std::vector<double> vals;
+  MatX sum;
+  std::vector<double>& vals = hessianValues_;
   if (hessianPattern_.size() != cons_.size()) hessianPattern_.assign(cons_.size(), {});
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
+    MatX& H = consOut_[c].b;
     const LocalState& ls = constraintState(c, q, VecX(), p);
     const int nl = static_cast<int>(consDofs_[c].size());
     const auto& map = consDofs_[c];
@@ -567,7 +571,7 @@ void Assembler::addHessianRows(SparseAccumulator& acc, const VecX& q, const VecX
       constraintHessian(co, ls, i, H);
       rowsBlock.row(i) = (H * vl).transpose();
     }
-    acc.addBlock(iota(consRow_[c], co.rows()), consDofs_[c], rowsBlock, s, r0, c0);
+    acc.addBlock(consRows_[c], consDofs_[c], rowsBlock, s, r0, c0);
   }
 }
 

@@ -56,8 +56,12 @@ class Assembler {
 
   // --- vectors -----------------------------------------------------------------------
   VecX force(const VecX& q, const VecX& v, const VecX& p) const {          ///< Q [N]
-    return elementForces(q, v, p, false);
+    VecX Q;
+    elementForces(q, v, p, false, Q);
+    return Q;
   }
+  /// Q [N] into Q's storage (no allocation once sized: the Newton residual's).
+  void force(const VecX& q, const VecX& v, const VecX& p, VecX& Q) const { elementForces(q, v, p, false, Q); }
   VecX phi(const VecX& q, const VecX& p) const;                           ///< Phi
   VecX phiQTimes(const VecX& q, const VecX& p, const VecX& x) const;      ///< Phi_q x
   VecX phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) const;  ///< Phi_q^T l
@@ -94,7 +98,9 @@ class Assembler {
   /// -grad V [N]: the forces at rest of the elements with a potential (all but the loads
   /// that do external work, externalWork()).
   VecX conservativeForce(const VecX& q, const VecX& p) const {
-    return elementForces(q, VecX::Zero(q.size()), p, true);
+    VecX Q;
+    elementForces(q, VecX::Zero(q.size()), p, true, Q);
+    return Q;
   }
   /// Power [W] of the forces the potential does not hold, v . (Q(q, v) - conservativeForce):
   /// dampers and loads that do external work, at time(). With the drivers' lambda^T Phi_t it
@@ -164,7 +170,7 @@ class Assembler {
   template <class Pick>
   VecX driverRows(const VecX& q, const VecX& v, const VecX& p, Pick pick) const;
   /// Sum of the elements' forces at (q, v); with potentialOnly, of those with a potential.
-  VecX elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly) const;
+  void elementForces(const VecX& q, const VecX& v, const VecX& p, bool potentialOnly, VecX& Q) const;
   // The local derivative kernels, analytic or AD by derivatives_ (the loops are shared).
   void elementForceJacobian(const Element& el, const LocalState& s, MatX& dQdq, MatX& dQdv) const;
   bool elementParameterDerivative(const Element& el, const LocalState& s, int k, VecX& dQ,
@@ -190,6 +196,16 @@ class Assembler {
   /// r[map[j]] += (J^T l)_j for the entries map[j] >= 0.
   static void addTransposeTimes(const MatX& J, const std::vector<int>& map, Eigen::Ref<const VecX> l, VecX& r);
   mutable std::vector<LocalState> elemScratch_, consScratch_;  ///< elementState, constraintState
+  /// Kernel outputs kept per element (Q; dQ/dq, dQ/dv) and per constraint (phi; Phi_q, one
+  /// Hessian row): each kernel writes the same sizes at every call, while one buffer shared by
+  /// all of them was resized, so freed and allocated, from kernel to kernel (malloc and free
+  /// were ~12% of the n = 8 flexible five-bar's run).
+  struct KernelOut {
+    VecX vec;
+    MatX a, b;
+  };
+  mutable std::vector<KernelOut> elemOut_, consOut_;
+  std::vector<std::vector<int>> consRows_;  ///< each constraint's global rows (consRow_ on)
   /// Per design parameter k: the elements (constraints) whose Q or M (Phi) depend on it, found
   /// at the first derivative with respect to k by asking each one (a kernel's "false" is
   /// structural: no property or time function of it is bound to k). The parameter loops then
@@ -205,6 +221,7 @@ class Assembler {
   /// Per constraint with a constant Hessian: its structural nonzeros (column-major local
   /// indices j nl + i), found at the first addHessian.
   mutable std::vector<std::optional<std::vector<int>>> hessianPattern_;
+  mutable std::vector<double> hessianValues_;  ///< addHessian's sums over a pattern, kept
   mutable std::optional<VecX> massesAt_;  ///< the p of masses_ and massDerivatives_
   /// dM_e/dp_k of the elements whose mass depends on p_k, kept like masses_ (the sensitivity
   /// right-hand sides asked for them at every step and parameter: 8% of the five-bar's run
