@@ -37,7 +37,7 @@ VecT<T> RigidBar::forceT(const LocalState& s, const VecT<T>&, const VecT<T>&,
 // property and result vectors were a malloc/free pair each (n = 8 flexible five-bar).
 void RigidBar::force(const LocalState& s, VecX& Q) const {
   const int d = s.dim;
-  const double w = 0.5 * s.value(mass_);  // half the weight on each end [kg]
+  const double w = 0.5 * s.value(mass_);  // half the mass [kg]: w g on each end
   Q.resize(2 * d);
   for (int i = 0; i < d; ++i) Q[i] = Q[d + i] = w * (*s.gravity)[i];
 }
