@@ -199,7 +199,7 @@ class Assembler {
   /// Kernel outputs kept per element (Q; dQ/dq, dQ/dv) and per constraint (phi; Phi_q, one
   /// Hessian row): each kernel writes the same sizes at every call, while one buffer shared by
   /// all of them was resized, so freed and allocated, from kernel to kernel (malloc and free
-  /// were ~12% of the n = 8 flexible five-bar's run).
+  /// were ~16% of the n = 8 flexible five-bar's run).
   struct KernelOut {
     VecX vec;
     MatX a, b;

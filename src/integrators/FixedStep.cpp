@@ -198,7 +198,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   long luStep = 0;           // ... in this step
   VecX dabar, dvbar;
   // The step's history terms and the residual's parts, kept across steps and iterations (no
-  // heap traffic: with the kernels' temporaries, malloc and free were ~12% of the n = 8
+  // heap traffic: with the kernels' temporaries, malloc and free were ~16% of the n = 8
   // flexible five-bar's run).
   VecX abar, vbar, aBuf, vBuf, forceBuf;
 
