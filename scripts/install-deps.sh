@@ -3,6 +3,7 @@
 set -euo pipefail
 PACKAGES=(
   g++ cmake ninja-build              # toolchain
+  ccache                             # rebuilds of unchanged sources are cache hits
   libeigen3-dev                      # dense/sparse linear algebra
   libsuitesparse-dev                 # KLU sparse LU
   libsundials-dev                    # IDAS (+ nvecserial, sunmatrixsparse, sunlinsolklu)
