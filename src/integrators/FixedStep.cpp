@@ -61,6 +61,10 @@ struct Scheme {
     ca = (1.0 - am) / ((1.0 - af) * beta * h * h);
     cv = gamma / (beta * h);
   }
+  /// w_0 = a_0, the consistent initial accelerations (Chung-Hulbert's and Arnold-Bruls' start).
+  /// A mode with omega h >> 1 released out of equilibrium then overshoots in the first step:
+  /// v_1 -> (1 - rho_inf)^2 / 4 h a_0 instead of at most omega x_0, then decays (its energy by
+  /// rho_inf^2 per step asymptotically; test GeneralizedAlpha.FirstStepOvershootOfAStiffModeFollowsTheRecurrence).
   static const VecX& pseudo(const State& n) { return n.pseudoAcc.size() ? n.pseudoAcc : n.a; }
   /// History terms (abar, vbar) from the previous step's q, v, a, w (or their
   /// sensitivities: the map is linear, and q_n enters through -ca q_n, -cv q_n).
