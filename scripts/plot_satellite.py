@@ -66,7 +66,7 @@ def main():
     fig.tight_layout()
     out = os.path.join(root, "plots")
     os.makedirs(out, exist_ok=True)
-    fig.savefig(os.path.join(out, "fig12_satellite.png"), dpi=110)
+    fig.savefig(os.path.join(out, "fig12_satellite.png"), dpi=85)
     print("plot_satellite: %s" % os.path.join(out, "fig12_satellite.png"))
 
 

@@ -24,7 +24,7 @@ status=0
 echo
 echo "flexsens: results in results/fivebar_rigid/<case>/, results/fivebar_flexible/<case>/,"
 echo "          results/double_pendulum/, results/four_bar/, results/satellite/SAT1|SAT2/,"
-echo "          results/satellite_galpha/SAT1|SAT2/ (frames.pvd for ParaView, series.csv,"
+echo "          results/satellite_trusted/SAT1|SAT2/ (frames.pvd for ParaView, series.csv,"
 echo "          summary.json); plots in results/plots/; ParaView frames of the deployment in"
 echo "          results/satellite/SAT2/png/"
 exit $status
