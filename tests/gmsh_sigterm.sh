@@ -5,7 +5,7 @@
 # The CPU limit is raised to 60 s so that only the signal can end the loop.
 #   bash tests/gmsh_sigterm.sh <flexsens executable>
 set -u
-EXE=$1
+EXE=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
