@@ -286,6 +286,7 @@ def main():
     ap.add_argument("--run-fraction", type=float, default=0.25, help="share of valid mutants also run")
     ap.add_argument("--keep", help="directory for the failing mutants")
     args = ap.parse_args()
+    args.exe = os.path.abspath(args.exe)  # flexsens runs in each mutant's folder
 
     rng = random.Random(args.seed)
     scenes = base_scenes()
