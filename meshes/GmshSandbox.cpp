@@ -265,9 +265,15 @@ InputError failure(const ChildEnd& end, const std::string& file, const GmshLimit
     if (sig == SIGXCPU || (sig == SIGKILL && end.cpuSeconds >= std::ceil(limits.cpuSeconds) - 0.05))
       return InputError(where + ": " + in + "stopped at the CPU-time limit of " + fmtNumber(limits.cpuSeconds) +
                         " s (an endless loop, or meshing too fine?)" + cpuHint);
-    if (sig == SIGSYS || sig == SIGXFSZ)
-      return InputError(where + ": " + in + "stopped at a forbidden operation (" + signalName(sig) +
-                        ": writing or creating a file); a geometry file may only be read and meshed");
+    // SIGSYS unreported: the call came with signals blocked (glibc's posix_spawn, behind
+    // system()), so the kernel ended the child before the handler could name it.
+    if (sig == SIGSYS)
+      return InputError(where + ": " + in + "stopped at a forbidden operation (SIGSYS from the seccomp filter: starting "
+                        "a program or process, writing a file, or another call a geometry never needs); a geometry file "
+                        "may only be read and meshed (remove the command that does this)");
+    if (sig == SIGXFSZ)
+      return InputError(where + ": " + in + "stopped at a forbidden operation (SIGXFSZ: writing to a file); a geometry "
+                        "file may only be read and meshed (remove the command that does this)");
     return InputError(where + ": " + in + "Gmsh crashed (" + signalName(sig) + ") after using " + fmtMb(end.maxRssMb) +
                       " of memory; at the memory limit of " + fmtNumber(limits.memoryMb) + " MB" + memHint +
                       ", else the file triggers a Gmsh defect");

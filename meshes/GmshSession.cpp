@@ -1,4 +1,4 @@
-// Gmsh session guard and lock; see GmshSession.hpp.
+// Gmsh session guard; see GmshSession.hpp.
 #include "meshes/GmshSession.hpp"
 
 #include <gmsh.h>
