@@ -55,6 +55,11 @@ def base_scenes():
             data = yaml.safe_load(text)
         except yaml.YAMLError:
             data = None
+        # A meshed body's PIM cases make `check` slow (examples/fivebar/meshed_link.yaml: ~1 min
+        # of CPU), which would read as a hang; the body is fuzzed without them.
+        if isinstance(data, dict) and "cases" in data and re.search(r"\bmesh:", text):
+            del data["cases"]
+            text = yaml.safe_dump(data, sort_keys=False)
         if isinstance(data, dict) and isinstance(data.get("integrator"), dict):
             integ = data["integrator"]
             dt = integ.get("dt")
