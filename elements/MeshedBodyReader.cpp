@@ -26,6 +26,7 @@ BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string
   }
   req.groupWhere = ctx.where(el["group"], path + ".group");
   req.sizeWhere = el["size"] ? ctx.where(el["size"], path + ".size") : ctx.where(meshKey, path + ".mesh");
+  req.gmsh = ctx.gmsh;
   return meshBody(req, ctx.where(meshKey, path + ".mesh"));
 }
 

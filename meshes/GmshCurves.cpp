@@ -1,6 +1,8 @@
 // Gmsh geometry -> node chains; see GmshCurves.hpp.
 #include "meshes/GmshCurves.hpp"
+#include "meshes/GeoScan.hpp"
 #include "meshes/GmshSession.hpp"
+#include "meshes/MeshWire.hpp"
 
 #include <gmsh.h>
 
@@ -101,11 +103,8 @@ struct CurveInfo {
   double length = 0.0;
 };
 
-}  // namespace
-
-CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>& requests,
-                     const std::string& where) {
-  // --- checks that need no Gmsh ----------------------------------------------------------
+/// Checks of the requests that need no Gmsh.
+void checkRequests(const std::vector<CurveRequest>& requests, const std::string& where) {
   {
     std::set<std::string> seen;
     for (const CurveRequest& r : requests) {
@@ -122,29 +121,11 @@ CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>
                          "' is requested twice; expected each group once");
     }
   }
-  {
-    // Gmsh's parser would block on a FIFO, read /dev/zero for ever, or swallow any size:
-    // only a regular, readable file of sane size reaches it.
-    std::error_code ec;
-    const auto st = std::filesystem::status(geoFile, ec);
-    std::ifstream in(geoFile);
-    if (ec || !std::filesystem::exists(st) || !in)
-      throw InputError(where + ": cannot open the geometry file '" + geoFile +
-                       "' (does it exist and is it readable?)");
-    if (!std::filesystem::is_regular_file(st))
-      throw InputError(where + ": the geometry file '" + geoFile + "' is not a regular file");
-    const auto size = std::filesystem::file_size(geoFile, ec);
-    if (ec || size > kMaxGeometryBytes)
-      throw InputError(where + ": the geometry file '" + geoFile + "' has " + std::to_string(size) +
-                       " bytes; expected at most " + std::to_string(kMaxGeometryBytes) + " (64 MiB)");
-  }
+}
 
-  std::lock_guard<std::mutex> lock(gmshMutex());
-  if (gmshInitialized())
-    throw std::logic_error(where + ": Gmsh is already initialized by someone else; meshCurves "
-                           "starts and finalizes its own Gmsh session");
-  GmshSession session;
-
+/// The chains, computed with Gmsh in this process (the sandboxed child).
+CurveMesh meshCurvesHere(const std::string& geoFile, const std::vector<CurveRequest>& requests,
+                         const std::string& where) {
   auto fail = [&](const std::string& what) -> InputError {
     return InputError(where + ": " + what);
   };
@@ -359,6 +340,18 @@ CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>
     throw fail("Gmsh error with '" + geoFile + "': " + gmshError);
   }
   return result;
+}
+
+}  // namespace
+
+CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>& requests, const std::string& where,
+                     const GmshOptions& options) {
+  checkRequests(requests, where);
+  readGeometryFile(geoFile, "geometry file", where);
+  scanGeoFile(geoFile, {options.sceneDir}, where);
+  return decodeCurveMesh(runGmshSandboxed(geoFile, options.limits, where, [&] {
+    return encodeCurveMesh(meshCurvesHere(geoFile, requests, where));
+  }));
 }
 
 }  // namespace flexsens

@@ -5,13 +5,10 @@
 // requested curves with a prescribed number of uniform segments (transfinite), and returns
 // each requested group as one ordered chain of named nodes.
 //
-// Gmsh lifetime: Gmsh (SDK 4.8) is initialized and finalized inside meshCurves() only, by an
-// RAII guard (finalized even when an exception leaves the call), with General.Terminal = 0 so
-// nothing is printed. Scenes without meshes therefore never start Gmsh. Calls are serialized
-// by a mutex (Gmsh has global state). If Gmsh was already initialized by someone else when
-// meshCurves() is called, it throws std::logic_error rather than finalize a session it does
-// not own (Gmsh 4.8 has no gmsh::isInitialized(); the state is probed by an option read,
-// which throws "Gmsh has not been initialized" when it is not).
+// Gmsh lifetime: the .geo is scanned for commands that reach outside (meshes/GeoScan), then
+// Gmsh (SDK 4.8) runs in a sandboxed child process (meshes/GmshSandbox) with CPU-time and
+// memory limits; the chains come back over a pipe. The calling process never initializes
+// Gmsh, so scenes without meshes never start it and a caller's own Gmsh session is left alone.
 //
 // Units: Gmsh has none; the coordinates of the .geo are taken as meters.
 #pragma once
@@ -21,6 +18,8 @@
 #include <vector>
 
 #include "core/Types.hpp"
+#include "meshes/GeometryFile.hpp"
+#include "meshes/GmshSandbox.hpp"
 
 namespace flexsens {
 
@@ -44,11 +43,10 @@ struct CurveMesh {
   std::map<std::string, Eigen::Vector3d> points;  ///< every named Physical Point [m]
 };
 
-/// Limits on input before Gmsh sees it: segments per requested curve group (a model of
-/// 3 x 10^4 coordinates per curve is already beyond what the dense PIM system handles) and
-/// the size of a geometry file.
+/// Limit on input before Gmsh sees it: segments per requested curve group (a model of
+/// 3 x 10^4 coordinates per curve is already beyond what the dense PIM system handles); the
+/// size of a geometry file: kMaxGeometryBytes (meshes/GeometryFile.hpp).
 inline constexpr int kMaxSegments = 10000;
-inline constexpr std::uintmax_t kMaxGeometryBytes = 64u << 20;
 
 /// Meshes the requested Physical Curves of `geoFile` and returns one chain per request.
 ///
@@ -60,13 +58,14 @@ inline constexpr std::uintmax_t kMaxGeometryBytes = 64u << 20;
 /// An end point that is not a Physical Point is allowed; its node is named "<group>.0" (or
 /// "<group>.<segments>" at the far end) like any interior node.
 ///
-/// Throws InputError(where + ": ...") when the file cannot be opened or Gmsh reports an error,
+/// Throws InputError(where + ": ...") when the file cannot be opened, holds a refused command
+/// (meshes/GeoScan), Gmsh hits a limit of `options` or reports an error,
 /// a requested group is missing (the message lists the available Physical Curves), a group is
 /// requested twice or shares a curve with another requested group, segments < 1 or fewer than
 /// the group's curves, or the group's curves do not form one open chain (branch, loop, closed
 /// curve, disconnected pieces); also when a Physical Point holds several points, two Physical
 /// Points share a name or a point.
 CurveMesh meshCurves(const std::string& geoFile, const std::vector<CurveRequest>& requests,
-                     const std::string& where);
+                     const std::string& where, const GmshOptions& options = {});
 
 }  // namespace flexsens

@@ -10,7 +10,10 @@
 #include <unordered_map>
 
 #include "meshes/GmshCurves.hpp"
+#include "meshes/GeoScan.hpp"
+#include "meshes/GeometryFile.hpp"
 #include "meshes/GmshSession.hpp"
+#include "meshes/MeshWire.hpp"
 
 namespace flexsens {
 
@@ -59,30 +62,13 @@ std::string gmshTypeName(int type) {
   return name;
 }
 
-}  // namespace
-
-BodyMesh meshBody(const BodyMeshRequest& req, const std::string& where) {
+/// The body's mesh, computed with Gmsh in this process (the sandboxed child).
+BodyMesh meshBodyHere(const BodyMeshRequest& req, const std::string& where) {
   auto fail = [&](const std::string& what) { return InputError(where + ": " + what); };
   const std::string& file = req.file;
   const bool isMsh = endsWith(file, ".msh");
-  {
-    std::error_code ec;
-    const auto st = std::filesystem::status(file, ec);
-    std::ifstream in(file);
-    if (ec || !std::filesystem::exists(st) || !in)
-      throw fail("cannot open the mesh file '" + file + "' (does it exist and is it readable?)");
-    if (!std::filesystem::is_regular_file(st)) throw fail("the mesh file '" + file + "' is not a regular file");
-    const auto size = std::filesystem::file_size(file, ec);
-    if (ec || size > kMaxGeometryBytes)
-      throw fail("the mesh file '" + file + "' has " + std::to_string(size) + " bytes; expected at most " +
-                 std::to_string(kMaxGeometryBytes) + " (64 MiB)");
-  }
   const std::string groupKind = req.dim == 2 ? "Physical Surface" : "Physical Volume";
 
-  std::lock_guard<std::mutex> lock(gmshMutex());
-  if (gmshInitialized())
-    throw std::logic_error(where + ": Gmsh is already initialized by someone else; meshBody starts and finalizes its own session");
-  GmshSession session;
   BodyMesh out;
   try {
     gmsh::logger::start();
@@ -239,6 +225,19 @@ BodyMesh meshBody(const BodyMeshRequest& req, const std::string& where) {
     throw fail("Gmsh error with '" + file + "': " + gmshError);
   }
   return out;
+}
+
+}  // namespace
+
+BodyMesh meshBody(const BodyMeshRequest& req, const std::string& where) {
+  const bool isMsh = endsWith(req.file, ".msh");
+  const std::string contents = readGeometryFile(req.file, "mesh file", where);
+  if (isMsh)
+    checkMshCounts(req.file, contents, where);
+  else
+    scanGeoFile(req.file, {req.gmsh.sceneDir}, where);
+  return decodeBodyMesh(
+      runGmshSandboxed(req.file, req.gmsh.limits, where, [&] { return encodeBodyMesh(meshBodyHere(req, where)); }));
 }
 
 }  // namespace flexsens

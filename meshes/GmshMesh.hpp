@@ -18,6 +18,7 @@
 
 #include "core/Types.hpp"
 #include "elements/SimplexShape.hpp"
+#include "meshes/GmshSandbox.hpp"
 
 namespace flexsens {
 
@@ -30,6 +31,7 @@ struct BodyMeshRequest {
   /// "file:line:col: key '...'" of the scene keys group and size, for the errors that concern
   /// them (the `where` argument of meshBody names the file key).
   std::string groupWhere, sizeWhere;
+  GmshOptions gmsh;  ///< limits of the Gmsh child, the scene's folder
 };
 
 struct BodyMesh {
@@ -49,7 +51,9 @@ struct BodyMesh {
 inline constexpr double kMaxMeshCellsEstimate = 2e5;
 inline constexpr int kMaxMeshNodes = 20000;
 
-/// Throws InputError(where + ": ...") when the file cannot be read, the group is missing
+/// Gmsh runs in a sandboxed child (meshes/GmshSandbox); a .geo is scanned first
+/// (meshes/GeoScan), a .msh's headers checked (meshes/GeometryFile).
+/// Throws InputError(where + ": ...") when the file cannot be read, Gmsh hits a limit, the group is missing
 /// (listing the available ones of that dimension), the mesh would be too large, holds other
 /// element types (quadrangles, hexahedra, ...), or a node of the body's entities belongs to
 /// no element (a free node).

@@ -1,4 +1,4 @@
-// Gmsh session guard and lock; see GmshSession.hpp.
+// Gmsh session guard; see GmshSession.hpp.
 #include "meshes/GmshSession.hpp"
 
 #include <gmsh.h>
@@ -21,12 +21,8 @@ bool gmshInitialized() {
   return !std::isnan(v);
 }
 
-std::mutex& gmshMutex() {
-  static std::mutex m;
-  return m;
-}
-
 GmshSession::GmshSession() {
+  if (gmshInitialized()) gmsh::finalize();  // the child's copy of a parent's session
   gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
   gmsh::option::setNumber("General.Terminal", 0);
 }

@@ -1,16 +1,14 @@
-// One Gmsh (SDK 4.8) session at a time, shared by the curve bridge (GmshCurves) and the
-// body bridge (GmshMesh): Gmsh has global state, so calls hold gmshMutex(); a session is
-// initialized quietly (General.Terminal = 0) and finalized on every exit path by the guard.
+// The Gmsh (SDK 4.8) session of the curve bridge (GmshCurves) and the body bridge (GmshMesh),
+// opened inside the sandboxed child process (meshes/GmshSandbox) only: initialized quietly
+// (General.Terminal = 0) and finalized on every exit path by the guard. A session the child
+// inherited from its parent (a copy of the parent's memory) is finalized first; the parent's
+// own session is not touched.
 #pragma once
-
-#include <mutex>
 
 namespace flexsens {
 
 /// Gmsh 4.8 has no gmsh::isInitialized(): an option read into a NaN probes the state.
 bool gmshInitialized();
-
-std::mutex& gmshMutex();
 
 class GmshSession {
  public:

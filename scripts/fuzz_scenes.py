@@ -10,12 +10,19 @@ it succeeded is a failure. Exit status 1 when there is any failure, 0 otherwise.
 Mutations: structural (a value anywhere in the tree replaced by an extreme or ill-typed
 value, keys deleted, renamed or repeated, list items dropped or duplicated, numbers scaled)
 on the parsed scene, and textual (lines deleted or duplicated, characters flipped, the file
-cut short, lists and mappings used as keys) on its text. Base scenes are shortened to a few
-steps first so that runs stay fast; geometry paths are made absolute.
+cut short, lists and mappings used as keys) on its text; and, every tenth mutant, a hostile
+command put into a copy of a meshed body's or geometry's .geo (SystemCall, Printf > file,
+Include of /dev/zero or of a file outside the scene's folder, Save, Exit, Sleep, an endless
+loop, an 80 GB list, meshing at 1e-5 m): it must end in a located error (exit 1) and leave no
+marker file. Base scenes are shortened to a few steps first so that runs stay fast; `gmsh:`
+and `mesh:` paths are made absolute (mutants live elsewhere), so meshed bodies are meshed.
+A run that exits 0 must leave every number of every CSV, summary.json and ASCII VTU finite,
+and summary.json's status must say `complete` (exit 5: `suspect`).
 """
 import argparse
 import concurrent.futures
 import glob
+import json
 import math
 import os
 import random
@@ -41,13 +48,18 @@ def base_scenes():
     scenes = []
     for f in files:
         text = open(f).read()
-        # Geometry paths relative to the scene: absolute, since mutants live elsewhere.
-        text = re.sub(r"(gmsh:\s*)([^\s,}]+)",
+        # Geometry and mesh paths relative to the scene: absolute, since mutants live elsewhere.
+        text = re.sub(r"(\bgmsh:\s*|\bmesh:\s*)([^\s,}#]+)",
                       lambda m: m.group(1) + os.path.normpath(os.path.join(os.path.dirname(f), m.group(2))), text)
         try:
             data = yaml.safe_load(text)
         except yaml.YAMLError:
             data = None
+        # A meshed body's PIM cases make `check` slow (examples/fivebar/meshed_link.yaml: ~1 min
+        # of CPU), which would read as a hang; the body is fuzzed without them.
+        if isinstance(data, dict) and "cases" in data and re.search(r"\bmesh:", text):
+            del data["cases"]
+            text = yaml.safe_dump(data, sort_keys=False)
         if isinstance(data, dict) and isinstance(data.get("integrator"), dict):
             integ = data["integrator"]
             dt = integ.get("dt")
@@ -61,6 +73,40 @@ def base_scenes():
             text = yaml.safe_dump(data, sort_keys=False)
         scenes.append((os.path.relpath(f, ROOT), text, data))
     return scenes
+
+
+# Hostile .geo commands (with the scene's `limits` that keep the test short) for the tenth
+# mutants: each must be refused (exit 1, located) and write no marker file.
+GEO_ATTACKS = [
+    ('SystemCall "touch {marker}";', None),
+    ('System "touch {marker}";', None),
+    ('Printf("x") > "{marker}";', None),
+    ('Printf("%g", 1) >> "{marker}";', None),
+    ('Include "/dev/zero";', None),
+    ('Include "/etc/hostname";', None),
+    ('Include StrCat("/dev/", "zero");', None),
+    ('Save "{marker}.msh";', None),
+    ('Exit;', None),
+    ('Sleep 100;', None),
+    ('For fz In {{1:1e15}}\n  gz = fz;\nEndFor', {"gmsh_cpu_s": 1}),
+    ('fz[] = {{1:1e10}};', {"gmsh_cpu_s": 2, "gmsh_memory_mb": 256}),
+    ('Mesh.MeshSizeMax = 1e-5;\nMesh 2;', {"gmsh_cpu_s": 1, "gmsh_memory_mb": 256}),
+]
+GEO_KEY = re.compile(r"(\b(?:gmsh|mesh):\s*)(/[^\s,}#]+\.geo)\b")
+
+
+def geo_mutant(rng, scenes, work):
+    """A scene whose .geo (copied into `work` as attack.geo) holds a hostile command."""
+    name, text, data = rng.choice(scenes)
+    m = GEO_KEY.search(text)
+    cmd, limits = rng.choice(GEO_ATTACKS)
+    lines = open(m.group(2)).read().split("\n")
+    at = rng.choice([0, len(lines)])
+    lines.insert(at, cmd.format(marker=os.path.join(work, "marker_geo")))
+    mtext = text[: m.start(2)] + "attack.geo" + text[m.end(2):]
+    if limits:
+        mtext = "limits: " + json.dumps(limits) + "\n" + mtext
+    return name, mtext, {"attack.geo": "\n".join(lines)}
 
 
 def paths(node, prefix=()):
@@ -152,33 +198,69 @@ def short_integrator(mtext, base):
     return yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
 
 
-def run(cmd, limit):
+def run(cmd, limit, cwd=None):
     try:
-        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=limit)
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=limit, cwd=cwd)
         return p.returncode, p.stderr.decode(errors="replace")
     except subprocess.TimeoutExpired:
         return "hang", ""
 
 
-def outputs_finite(out):
-    for f in glob.glob(os.path.join(out, "**", "series.csv"), recursive=True):
-        for line in open(f).read().split("\n")[1:]:
-            for x in line.split(","):
-                if x and not math.isfinite(float(x)):
-                    return f
+def not_finite(x):
+    try:
+        return not math.isfinite(float(x))
+    except ValueError:
+        return False  # a text column (a name, a status)
+
+
+def json_numbers(node):
+    if isinstance(node, dict):
+        for v in node.values():
+            yield from json_numbers(v)
+    elif isinstance(node, list):
+        for v in node:
+            yield from json_numbers(v)
+    elif isinstance(node, float):
+        yield node
+
+
+def outputs_bad(out, code):
+    """Why the outputs of a run that exited `code` (0 or 5) are wrong, or None."""
+    for f in glob.glob(os.path.join(out, "**", "*.csv"), recursive=True):
+        for n, line in enumerate(open(f, errors="replace").read().split("\n")[1:], 2):
+            if any(not_finite(x) for x in line.split(",") if x.strip()):
+                return f"{f}:{n}: a NaN or Inf: {line[:200]}"
+    summaries = glob.glob(os.path.join(out, "**", "summary.json"), recursive=True)
+    if not summaries:
+        return f"{out}: no summary.json"
+    want = "complete" if code == 0 else "suspect"
+    for f in summaries:
+        try:  # json.loads takes NaN and Infinity; they are found below
+            data = json.load(open(f))
+        except ValueError as e:
+            return f"{f}: not JSON: {e}"
+        if any(not math.isfinite(x) for x in json_numbers(data)):
+            return f"{f}: a NaN or Inf"
+        if isinstance(data, dict) and data.get("status") != want:
+            return f"{f}: status {data.get('status')!r} after exit {code}; expected {want!r}"
+    for f in glob.glob(os.path.join(out, "**", "*.vtu"), recursive=True):
+        text = open(f, errors="replace").read()
+        for arr in re.findall(r'<DataArray[^>]*format="ascii"[^>]*>([^<]*)<', text):
+            if any(not_finite(x) for x in arr.split()):
+                return f"{f}: a NaN or Inf in an ASCII DataArray"
     return None
 
 
 def judge(exe, path, limit, do_run, work):
     """Outcome tag and, for failures, the reason."""
-    code, err = run([exe, "check", path], limit)
+    code, err = run([exe, "check", path], limit, cwd=work)
     tags = []
     for mode in (["check", "run"] if do_run else ["check"]):
         if mode == "run":
             if code != 0:
                 break  # run of an invalid scene repeats check's verdict
             out = os.path.join(work, "out")
-            code, err = run([exe, "run", path, "--out", out], limit)
+            code, err = run([exe, "run", path, "--out", out], limit, cwd=work)
         if code == "hang":
             return f"{mode}:hang", f"over {limit} s"
         if code < 0:
@@ -191,10 +273,10 @@ def judge(exe, path, limit, do_run, work):
         # step, say): an honest verdict, not a failure of the program.
         if code not in (0, 1, 2) and not (mode == "run" and code == 5):
             return f"{mode}:exit{code}", err[-2000:]
-        if mode == "run" and code == 0:
-            bad = outputs_finite(os.path.join(work, "out"))
+        if mode == "run" and code in (0, 5):
+            bad = outputs_bad(os.path.join(work, "out"), code)
             if bad:
-                return "run:nan", bad
+                return "run:output", bad
         tags.append(f"{mode}:exit{code}")
     return tags[-1], ""
 
@@ -209,15 +291,23 @@ def main():
     ap.add_argument("--run-fraction", type=float, default=0.25, help="share of valid mutants also run")
     ap.add_argument("--keep", help="directory for the failing mutants")
     args = ap.parse_args()
+    args.exe = os.path.abspath(args.exe)  # flexsens runs in each mutant's folder
 
     rng = random.Random(args.seed)
     scenes = base_scenes()
+    root = tempfile.mkdtemp(prefix="flexsens_fuzz_")
+    # Valid scenes with a .geo behind `mesh:` or `geometry.gmsh:` (examples, test scenes).
+    geo_scenes = [sc for sc in scenes if GEO_KEY.search(sc[1]) and "/bad/" not in sc[0]]
     mutants = []
     # Half the mutants from the valid examples (whose mutants reach the model builder, the PIM
     # and the integrators), half from the test scenes, each list in turn.
     examples = [sc for sc in scenes if sc[0].startswith("examples")]
     others = [sc for sc in scenes if not sc[0].startswith("examples")] or examples
     for i in range(args.count):
+        if i % 10 == 9 and geo_scenes:
+            name, mtext, files = geo_mutant(rng, geo_scenes, os.path.join(root, f"m{i:05d}"))
+            mutants.append((i, name, mtext, False, files))
+            continue
         pool_ = examples if i % 2 == 0 else others
         name, text, data = pool_[(i // 2) % len(pool_)]
         if data is not None and rng.random() < 0.6:
@@ -227,19 +317,29 @@ def main():
         do_run = rng.random() < args.run_fraction
         if do_run:
             mtext = short_integrator(mtext, data)
-        mutants.append((i, name, mtext, do_run))
+        mutants.append((i, name, mtext, do_run, {}))
 
-    root = tempfile.mkdtemp(prefix="flexsens_fuzz_")
     counts, failures = {}, []
 
     def one(m):
-        i, name, text, do_run = m
+        i, name, text, do_run, files = m
         work = os.path.join(root, f"m{i:05d}")
         os.makedirs(work)
         path = os.path.join(work, f"mutant_{i:05d}.yaml")
         with open(path, "w") as f:
             f.write(text)
+        for fname, content in files.items():
+            with open(os.path.join(work, fname), "w") as f:
+                f.write(content)
         tag, why = judge(args.exe, path, args.time_limit, do_run, work)
+        if files:
+            markers = [f for f in os.listdir(work) if f.startswith("marker")]
+            if markers:
+                tag, why = "geo:escaped", f"the .geo command wrote {markers}"
+            elif tag != "check:exit1" and not why:
+                tag, why = "geo:accepted", f"a hostile .geo command ended in {tag}, not a located refusal"
+            else:
+                tag = "geo:" + tag
         return i, name, text, tag, why, work
 
     try:

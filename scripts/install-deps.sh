@@ -8,6 +8,7 @@ PACKAGES=(
   libsuitesparse-dev                 # KLU sparse LU
   libsundials-dev                    # IDAS (+ nvecserial, sunmatrixsparse, sunlinsolklu)
   libgmsh-dev                        # Gmsh SDK (geometry -> node chains)
+  libseccomp-dev                     # system-call filter of the sandboxed Gmsh child
   libvtk9-dev                        # VTK XML writers (.vtu)
   libyaml-cpp-dev                    # scene files
   libcli11-dev                       # command line

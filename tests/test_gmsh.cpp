@@ -395,13 +395,23 @@ TEST(GmshSession, PrintsNothing) {
   EXPECT_EQ(err, "");
 }
 
-TEST(GmshSession, RefusesToFinalizeSomeoneElsesSession) {
+// Gmsh runs in a child process (meshes/GmshSandbox): a session the caller opened is neither
+// refused nor touched, and the chains are the same as without it.
+TEST(GmshSession, LeavesTheCallersSessionAlone) {
+  const CurveMesh before = meshCurves(satelliteGeo(), {{"spring1", 20}}, "w");
+  EXPECT_FALSE(gmshInitialized());  // the calling process never started Gmsh
   gmsh::initialize(0, nullptr, false);
   gmsh::option::setNumber("General.Terminal", 0);
-  EXPECT_THROW(meshCurves(satelliteGeo(), {{"spring1", 20}}, "w"), std::logic_error);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", 0.123);
+  const CurveMesh during = meshCurves(satelliteGeo(), {{"spring1", 20}}, "w");
   EXPECT_TRUE(gmshInitialized());  // the caller's session is left alone
+  double size = 0.0;
+  gmsh::option::getNumber("Mesh.MeshSizeMax", size);
+  EXPECT_EQ(size, 0.123);
   gmsh::finalize();
   EXPECT_FALSE(gmshInitialized());
+  ASSERT_EQ(during.chains.at(0).positions.size(), 21u);
+  for (std::size_t i = 0; i < 21; ++i) EXPECT_EQ(during.chains[0].positions[i], before.chains[0].positions[i]) << i;
 }
 
 }  // namespace

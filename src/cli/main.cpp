@@ -229,6 +229,9 @@ int main(int argc, char** argv) {
   } catch (const Interrupted& e) {
     std::cerr << "flexsens: " << e.what() << "; results up to it written, summary.json says interrupted\n";
     return 128 + e.signal;
+  } catch (const InterruptedBeforeRun& e) {
+    std::cerr << "flexsens: " << e.what() << "\n";
+    return 128 + e.signal;
   } catch (const OutputError& e) {
     std::cerr << "flexsens: output error: " << e.what() << "\n";
     return 4;

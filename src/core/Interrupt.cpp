@@ -30,4 +30,9 @@ Interrupted::Interrupted(int sig, double time)
                          " at t = " + std::to_string(time) + " s"),
       signal(sig), t(time) {}
 
+InterruptedBeforeRun::InterruptedBeforeRun(int sig, const std::string& during)
+    : std::runtime_error(std::string("interrupted by ") + (sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal") +
+                         " " + during + "; nothing written"),
+      signal(sig) {}
+
 }  // namespace flexsens

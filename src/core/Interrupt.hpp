@@ -23,4 +23,11 @@ struct Interrupted : std::runtime_error {
   double t;  ///< [s] time reached, the last frame written
 };
 
+/// Thrown when SIGINT/SIGTERM arrives before any result exists (e.g. while a child process
+/// meshes the scene's geometry): nothing was written.
+struct InterruptedBeforeRun : std::runtime_error {
+  InterruptedBeforeRun(int sig, const std::string& during);
+  int signal;
+};
+
 }  // namespace flexsens

@@ -64,7 +64,7 @@ std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::strin
   if (segments > kMaxSegments)
     r.fail(sn, path + ".segments", "expected at most " + std::to_string(kMaxSegments) + " segments (kMaxSegments), got " +
                                        std::to_string(segments));
-  const CurveMesh mesh = meshCurves(geoFile, {{group, segments}}, where(c, path + ".curve"));
+  const CurveMesh mesh = meshCurves(geoFile, {{group, segments}}, where(c, path + ".curve"), gmsh);
   std::vector<int> ids;
   const NodeChain& ch = mesh.chains.at(0);
   for (size_t i = 0; i < ch.names.size(); ++i)

@@ -15,6 +15,7 @@
 
 #include "core/Model.hpp"
 #include "elements/JointAngle.hpp"
+#include "meshes/GmshSandbox.hpp"
 #include "scene/YamlReader.hpp"
 
 namespace flexsens {
@@ -48,6 +49,7 @@ class SceneContext {
   std::map<std::string, RigidBodyInfo> rigidBodies;
   std::map<std::string, std::array<int, 2>> planarRigidBodies;  ///< name -> basic points A, B
   std::string geoFile;  ///< the scene's Gmsh geometry, if any
+  GmshOptions gmsh;     ///< the Gmsh child's limits (scene key `limits`) and the scene's folder
 
   // ---------------------------------------------------------------- names and nodes
   /// The node named by scalar `n`; fails naming the key if there is none.

@@ -8,6 +8,7 @@
 
 #include "core/ModelChecks.hpp"
 #include "core/RedundantRows.hpp"
+#include "elements/SimplexShape.hpp"  // fmtNumber
 #include "meshes/GmshCurves.hpp"
 #include "scene/KindTable.hpp"
 #include "scene/SceneParts.hpp"
@@ -26,8 +27,26 @@ void readGeometry(SceneContext& ctx, const YAML::Node& g) {
   const std::string rel = r.text(r.require(g, "gmsh", "geometry"), "geometry.gmsh");
   const std::filesystem::path base = std::filesystem::path(r.file()).parent_path();
   ctx.geoFile = (base / rel).string();
-  const CurveMesh mesh = meshCurves(ctx.geoFile, {}, ctx.where(g["gmsh"], "geometry.gmsh"));
+  const CurveMesh mesh = meshCurves(ctx.geoFile, {}, ctx.where(g["gmsh"], "geometry.gmsh"), ctx.gmsh);
   for (const auto& [name, x] : mesh.points) ctx.addGeometryNode(name, x, g["gmsh"], "geometry.gmsh");
+}
+
+/// limits: {gmsh_cpu_s, gmsh_memory_mb}: the bounds of the Gmsh child (meshes/GmshSandbox).
+void readLimits(SceneContext& ctx, const YAML::Node& lim) {
+  const YamlReader& r = ctx.r;
+  r.allowKeys(lim, "limits", {"gmsh_cpu_s", "gmsh_memory_mb"});
+  GmshLimits& g = ctx.gmsh.limits;
+  if (const YAML::Node n = lim["gmsh_cpu_s"]) {
+    g.cpuSeconds = r.positive(n, GmshLimits::kCpuKey);
+    if (!(g.cpuSeconds <= GmshLimits::kMaxCpuSeconds))
+      r.fail(n, GmshLimits::kCpuKey, "expected CPU seconds for Gmsh of at most " + fmtNumber(GmshLimits::kMaxCpuSeconds) + " (a day)");
+  }
+  if (const YAML::Node n = lim["gmsh_memory_mb"]) {
+    g.memoryMb = r.positive(n, GmshLimits::kMemoryKey);
+    if (!(g.memoryMb >= GmshLimits::kMinMemoryMb && g.memoryMb <= GmshLimits::kMaxMemoryMb))
+      r.fail(n, GmshLimits::kMemoryKey, "expected the memory of Gmsh in MB from " + fmtNumber(GmshLimits::kMinMemoryMb) + " to " +
+                                            fmtNumber(GmshLimits::kMaxMemoryMb));
+  }
 }
 
 void readNodes(SceneContext& ctx, const YAML::Node& list) {
@@ -202,7 +221,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   SceneContext ctx(file, m);
   const YamlReader& r = ctx.r;
   r.allowKeys(root, "", {"dimension", "plane", "gravity", "geometry", "nodes", "elements", "constraints",
-                         "parameters", "integrator", "static", "outputs", "output", "description", "cases"});
+                         "parameters", "integrator", "static", "outputs", "output", "description", "cases", "limits"});
   const YAML::Node dimNode = r.require(root, "dimension", "");
   m.dim = r.integer(dimNode, "dimension");
   if (m.dim != 2 && m.dim != 3) r.fail(dimNode, "dimension", "expected 2 or 3");
@@ -212,6 +231,8 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
     if (m.plane != "xy" && m.plane != "xz" && m.plane != "yz") r.fail(root["plane"], "plane", "expected xy, xz or yz");
   }
   m.gravity = root["gravity"] ? r.vector(root["gravity"], "gravity", m.dim) : VecX::Zero(m.dim);
+  ctx.gmsh.sceneDir = std::filesystem::path(file).parent_path().string();
+  if (root["limits"]) readLimits(ctx, root["limits"]);
   if (root["geometry"]) readGeometry(ctx, root["geometry"]);
   // Nodes may all come from Gmsh: the geometry's named points or a meshed body (type: solid or shell).
   bool meshedBody = false;

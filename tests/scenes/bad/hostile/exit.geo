@@ -1,0 +1,3 @@
+// Exit ends Gmsh before the geometry is returned.
+Include "panel.geo";
+Exit;
