@@ -201,8 +201,10 @@ TEST(RunDirectorySafety, NewAndEmptyFoldersAreFineAndARerunReplacesOnlyListedFil
   const fs::path d = s.base / "nested" / "new";
   writeRun(d, {{"series.csv", "old"}, {"frame_00001.vtu", "old"}});
   put(d / "view.pvsm", "ParaView state of scripts/render_frames.py");
+  put(d / "png" / "frame_00000.png", "rendered");
   writeRun(d, {{"series.csv", "new"}});
-  EXPECT_EQ(names(d), (std::vector<std::string>{kManifestName, "series.csv", "view.pvsm"}));
+  EXPECT_EQ(names(d), (std::vector<std::string>{kManifestName, "png/", "series.csv", "view.pvsm"}));
+  EXPECT_EQ(slurp(d / "png" / "frame_00000.png"), "rendered");
   EXPECT_EQ(slurp(d / "series.csv"), "new");
   EXPECT_EQ(slurp(d / "view.pvsm"), "ParaView state of scripts/render_frames.py");  // carried over
   const std::string m = slurp(d / kManifestName);

@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (*studyCmd) {
-      std::cout << "study report written to " << runStudy(study) << "\n";
+      const std::string report = runStudy(study);  // first: a failed study prints no "written"
+      std::cout << "study report written to " << report << "\n";
       return 0;
     }
     if (*statik) {

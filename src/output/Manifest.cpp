@@ -60,7 +60,8 @@ void collectForeign(const fs::path& dir, const std::string& prefix, ForeignEntri
     const fs::file_status st = entryStatus(e.path());
     looksLikeResults = looksLikeResults || name == "summary.json";
     if (name == kManifestName && m) continue;
-    if (m && fs::is_regular_file(st) && (contains(m->files, name) || contains(m->keep, name))) continue;
+    if (m && fs::is_regular_file(st) && contains(m->files, name)) continue;
+    if (m && (fs::is_regular_file(st) || fs::is_directory(st)) && contains(m->keep, name)) continue;  // never deleted
     if (m && fs::is_directory(st) && contains(m->dirs, name)) {
       collectForeign(e.path(), prefix + name + "/", out);
       continue;

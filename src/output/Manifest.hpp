@@ -6,8 +6,8 @@
 //   kind run                   run | static | cases | study (informative)
 //   file series.csv            a file flexsens wrote
 //   dir F1                     a subfolder flexsens wrote, with its own manifest
-//   keep view.pvsm             a file flexsens' scripts write there later (render, plots):
-//                              accepted, carried over to a rerun, never deleted
+//   keep view.pvsm             a file or folder flexsens' scripts write there later (render,
+//                              plots): accepted as it is, carried over to a rerun, never deleted
 //
 // Names are single path components (no '/', '.', '..'): a manifest cannot point outside its
 // folder. Besides listed entries a folder may hold flexsens' own housekeeping: empty lock

@@ -59,7 +59,7 @@ std::string disposeEarlier(const fs::path& earlier, const fs::path& fresh, const
   std::string problem;
   if (const auto m = readManifest(earlier, problem))
     for (const auto& k : m->keep)
-      if (listed(keep, k) && fs::is_regular_file(fs::symlink_status(earlier / k)) && !present(fresh / k))
+      if (listed(keep, k) && !fs::is_symlink(fs::symlink_status(earlier / k)) && !present(fresh / k))
         ::rename((earlier / k).c_str(), (fresh / k).c_str());
   if (removeListed(earlier)) return "";
   const fs::path kept = fresh.string() + ".earlier-" + std::to_string(::getpid());
@@ -92,7 +92,8 @@ RunDirectory::RunDirectory(const std::string& dir, std::string kind) : kind_(std
     fs::remove_all(staging_, ec);
     throw;
   }
-  if (kind_ == "run" || kind_ == "static" || kind_ == "cases") keep_.push_back("view.pvsm");  // scripts/render_frames.py
+  // scripts/render_frames.py's ParaView state; its frames where the main job puts them
+  if (kind_ == "run" || kind_ == "static" || kind_ == "cases") keep_ = {"view.pvsm", "png"};
 }
 
 RunDirectory::~RunDirectory() {

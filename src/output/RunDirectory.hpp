@@ -39,8 +39,9 @@ class RunDirectory {
   /// Staging folder of `part` (a case), created on first use; "" is the whole folder.
   std::string staging(const std::string& part);
   std::string final(const std::string& part) const { return part.empty() ? final_ : final_ + "/" + part; }
-  /// Names a file that flexsens' scripts write into the folder later (plots, a ParaView
-  /// state): listed as `keep`, so a rerun accepts it and carries it over.
+  /// Names a file or folder that flexsens' scripts write into the folder later (plots, a
+  /// ParaView state, rendered frames): listed as `keep`, so a rerun accepts it as it is and
+  /// carries it over. Runs keep view.pvsm and png/ (scripts/render_frames.py, run-main.sh).
   void keep(const std::string& name) { keep_.push_back(name); }
   /// Writes the manifest and moves the staging folder into place (an atomic exchange where
   /// the file system allows it); then removes the earlier output's listed files. Throws
