@@ -187,7 +187,11 @@ void RunDirectory::place(const fs::path& from, const fs::path& to) {
     }
     const std::string kept = disposeEarlier(earlier, to, keep_);
     if (kept.empty()) return;
-    if (kept == from.string()) keptStaging_ = true;
+    if (kept == from.string()) {  // stays in the staging folder, which is then no leftover to remove
+      keptStaging_ = true;
+      std::error_code ec;
+      fs::remove(fs::path(staging_) / kStagingMarker, ec);
+    }
     std::cerr << "flexsens: note: the earlier output in " << to.string() << " held files flexsens did not write "
               << "(they appeared while this run wrote); kept them in " << kept << "\n";
   } catch (const OutputError& e) {
