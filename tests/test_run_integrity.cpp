@@ -114,17 +114,22 @@ std::vector<std::string> vtuFiles(const fs::path& dir) {
   return r;
 }
 
-/// An earlier run's results, more frames than the runs below write.
-void fakeEarlierResults(const fs::path& dir) {
+/// An earlier run's results, more frames than the runs below write, with the manifest a run
+/// writes (output/Manifest.hpp) listing them and `extra`.
+void fakeEarlierResults(const fs::path& dir, const std::string& extra = "") {
   fs::create_directories(dir);
   std::ofstream(dir / "summary.json") << "{\"status\": \"complete\", \"t_reached\": 99}\n";
   std::ofstream(dir / "series.csv") << "t,old\n0,1\n";
+  std::ofstream manifest(dir / ".flexsens-manifest");
+  manifest << "flexsens-manifest 1\nkind run\nfile summary.json\nfile series.csv\nfile frames.pvd\n";
+  if (!extra.empty()) manifest << "file " << extra << "\n";
   std::ofstream pvd(dir / "frames.pvd");
   for (int i = 0; i < 900; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05d.vtu", i);
     std::ofstream(dir / name) << "old";
     pvd << "<DataSet timestep=\"" << i << "\" part=\"0\" file=\"" << name << "\"/>\n";
+    manifest << "file " << name << "\n";
   }
 }
 
@@ -224,7 +229,7 @@ TEST(RunIntegrity, SecondConcurrentRunRefusesNamingTheDirectory) {
 TEST(RunIntegrity, RerunReplacesEarlierResultsWhole) {
   Scratch s("rerun");
   const fs::path out = s.base / "out";
-  fakeEarlierResults(out);
+  fakeEarlierResults(out, "notes_from_an_old_run.txt");
   std::ofstream(out / "notes_from_an_old_run.txt") << "stale";
   ASSERT_EQ(run({kPendulum, "--t-end", "0.05", "--out", out.string()}, s.base / "run"), 0)
       << readFile(s.base / "run.err");
@@ -287,7 +292,7 @@ TEST(RunIntegrity, ForeignNonEmptyDirectoryIsNotReplaced) {
   const int status = run({kPendulum, "--t-end", "0.05", "--out", dir.string()}, s.base / "run");
   const std::string err = readFile(s.base / "run.err");
   EXPECT_EQ(status, 4) << err;
-  EXPECT_NE(err.find("without flexsens results"), std::string::npos) << err;
+  EXPECT_NE(err.find("flexsens did not write (thesis.tex)"), std::string::npos) << err;
   EXPECT_EQ(readFile(dir / "thesis.tex"), "precious");
 }
 

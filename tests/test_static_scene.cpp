@@ -189,10 +189,19 @@ TEST(StaticCommand, WritesLoadStepsAndSensitivitiesAndRefusesWrongUse) {
   std::stringstream all;
   all << js.rdbuf();
   EXPECT_NE(all.str().find("\"status\": \"complete\""), std::string::npos);
-  // Staged like a run: a rerun replaces the directory whole and leaves no staging copy.
-  { std::ofstream(dir / "out" / "stale.txt") << "from an earlier run"; }
+  // Staged like a run: a rerun replaces the earlier output and leaves no staging copy; a file
+  // flexsens did not write makes it refuse (exit 4) and stays.
+  { std::ofstream(dir / "out" / "mine.txt") << "the user's"; }
+  const int refused = std::system((exe + " static " + scene + " --out " + (dir / "out").string() + " > /dev/null 2>&1").c_str());
+  EXPECT_TRUE(WIFEXITED(refused) && WEXITSTATUS(refused) == 4);
+  EXPECT_TRUE(fs::exists(dir / "out" / "mine.txt"));
+  fs::remove(dir / "out" / "mine.txt");
+  { std::ofstream(dir / "out" / "series.csv") << "old"; }
   ASSERT_EQ(std::system((exe + " static " + scene + " --out " + (dir / "out").string() + " > /dev/null 2>&1").c_str()), 0);
-  EXPECT_FALSE(fs::exists(dir / "out" / "stale.txt"));
+  std::ifstream again(dir / "out" / "series.csv");
+  std::string first;
+  std::getline(again, first);
+  EXPECT_EQ(first.rfind("load_factor", 0), 0u) << first;  // written again
   EXPECT_TRUE(fs::exists(dir / "out" / "summary.json"));
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find(".out.staging"), std::string::npos) << e.path();

@@ -223,6 +223,12 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
 }  // namespace
 
 RunResult runScene(const Scene& sc, const std::string& outDir) {
+  sc.requireDynamics();  // before the folder is locked or checked: input errors first
+  RunDirectory dir(outDir, "run");
+  return runScene(sc, dir, "");
+}
+
+RunResult runScene(const Scene& sc, RunDirectory& dir, const std::string& part) {
   sc.requireDynamics();  // a massless direction nothing restrains: an input error, not a failed run
   const auto t0 = std::chrono::steady_clock::now();
   const Model& m = *sc.model;
@@ -240,15 +246,15 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
               << (as.rheonomic() ? " and drivers (Phi_q v = -Phi_t)" : "") << "; projected onto them, "
               << "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
 
-  // Locked, staged, and moved into place whole at the end: never a mixture with an earlier
+  // Locked, staged, and moved into place at the end: never a mixture with an earlier
   // run's files, never a half-written directory under the final name.
-  RunDirectory dir(outDir);
+  const std::string staging = dir.staging(part), final = dir.final(part);
   const EnergyMeter meter(as, p);
-  ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
+  ResultWriter writer(sc, staging, "", final, "t", &meter);
   EnergyAudit audit(meter, writer, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
   RunHealth health(as, p, audit);
   RunResult res;
-  res.directory = outDir;
+  res.directory = final;
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
@@ -258,12 +264,12 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   auto finish = [&](const std::string& status, const std::string& error, const IntegratorStats& st) {
     try {
       writer.close();
-      writeSummary(dir.staging() + "/summary.json", dir.final() + "/summary.json", sc, st, elapsed(), status,
-                   error, writer, &pim, audit.json(), health.json(), dv);
-      dir.commit();
+      writeSummary(staging + "/summary.json", final + "/summary.json", sc, st, elapsed(), status, error, writer,
+                   &pim, audit.json(), health.json(), dv);
+      dir.commit(part);
     } catch (const OutputError& e) {
       throw OutputError(std::string(e.what()) + (status == "complete" ? "" : " (the run itself " + status + ": " + error + ")") +
-                        "; nothing was moved into " + dir.final());
+                        "; nothing was moved into " + final);
     }
   };
   try {
@@ -276,7 +282,7 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   } catch (const OutputError& e) {
     // A result file could not be written: the staging directory goes (RunDirectory's
     // destructor), earlier results stay as they were.
-    throw OutputError(std::string(e.what()) + "; nothing was moved into " + dir.final());
+    throw OutputError(std::string(e.what()) + "; nothing was moved into " + final);
   } catch (const Interrupted& e) {
     finish("interrupted", e.what(), writer.statistics());
     throw;

@@ -10,6 +10,8 @@
 
 namespace flexsens {
 
+class RunDirectory;
+
 /// Command-line overrides of the scene's settings.
 struct RunOptions {
   std::optional<std::string> outDir;
@@ -41,8 +43,12 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
 /// Integrates from `start` with the scene's integrator, sending frames to `obs`.
 IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,
                           const IntegratorSettings& set, Observer& obs);
-/// Runs the scene, writes results into outDir; on failure marks summary.json as failed
-/// and rethrows.
+/// Runs the scene, writes results into outDir (output/RunDirectory.hpp: locked, staged,
+/// refused when it holds files flexsens did not write); on failure marks summary.json as
+/// failed and rethrows.
 RunResult runScene(const Scene& scene, const std::string& outDir);
+/// The same into `part` of an output folder the caller holds ("" the whole folder, else a
+/// PIM case's subfolder), committed when the run ends.
+RunResult runScene(const Scene& scene, RunDirectory& dir, const std::string& part);
 
 }  // namespace flexsens

@@ -50,9 +50,9 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   Assembler as(m, sc.sensitivity.method == "ad" ? Derivatives::AutomaticDifferentiation : Derivatives::Analytic);
   const VecX p = m.nominalParameters();
   StaticResult res;
-  res.directory = outDir;
+  res.directory = outDir;  // as the user named it
   // Locked, staged and moved into place whole, like `run` (output/RunDirectory.hpp).
-  RunDirectory dir(outDir);
+  RunDirectory dir(outDir, "static");
   ResultWriter writer(sc, dir.staging(), "", dir.final(), "load_factor");
   auto finish = [&](const std::string& status, const std::string& error) {
     writer.close();

@@ -13,6 +13,8 @@
 
 #include "app/FiniteDifferences.hpp"
 #include "app/Run.hpp"
+#include "output/Manifest.hpp"
+#include "output/RunDirectory.hpp"
 
 namespace flexsens {
 
@@ -236,8 +238,10 @@ std::string shortFailure(const std::string& f) { return "stopped: " + f.substr(0
 }  // namespace
 
 std::string runStudy(const StudyOptions& opt) {
-  namespace fs = std::filesystem;
-  fs::create_directories(opt.outDir);
+  // Locked and checked before minutes of computing; staged, every write checked, moved into
+  // place at the end (output/RunDirectory.hpp).
+  RunDirectory dir(opt.outDir, "study");
+  std::vector<std::pair<std::string, std::string>> files;  // name, text
   const std::string& src = opt.sourceDir;
   const int reps = opt.quick ? 1 : 5;
   const double seedT = opt.quick ? 1.0 : 5.0;  // seed mechanisms: error over time, work-precision
@@ -287,7 +291,7 @@ std::string runStudy(const StudyOptions& opt) {
      << "`sens./total` as the seed's last row; `total/dynamics` the cost factor. nd is central, "
      << "nd-forward the seed's forward scheme, both with relative step 1e-6. Simulated time: "
      << rigid.costT << " s (five-bar), " << costT << " s (seed mechanisms). Plot: `cost.png`.\n\n";
-  std::ofstream tcsv(opt.outDir + "/cost.csv");
+  std::ostringstream tcsv;
   tcsv << "model,integrator,dt,method,parameters,total_s,dynamics_s,sensitivity_s,ratio,sens_share\n";
   for (const Mechanism* mech : all) {
     for (const CostSetup& cs : mech->cost) {
@@ -313,6 +317,7 @@ std::string runStudy(const StudyOptions& opt) {
       md << "\n";
     }
   }
+  files.emplace_back("cost.csv", tcsv.str());
 
   // ---------------------------------------------------- 2. error over time per method
   progress("error over time");
@@ -345,7 +350,7 @@ std::string runStudy(const StudyOptions& opt) {
     if (!ref.failure.empty()) throw NumericalError("study reference failed (" + mech->key + "): " + ref.failure);
     double refMax = 0.0;
     for (const auto& f : ref.rec.frames) refMax = std::max(refMax, std::abs(probe.sens(f)));
-    std::ofstream csv(opt.outDir + "/error_time_" + mech->key + ".csv");
+    std::ostringstream csv;
     csv << "t";
     for (const auto& m : methods) csv << "," << m.label;
     csv << "\n";
@@ -387,6 +392,7 @@ std::string runStudy(const StudyOptions& opt) {
          << (ok ? sci(last) : "-") << " | " << (ok ? "" : shortFailure(r.failure)) << " |\n";
     }
     md << "\n";
+    files.emplace_back("error_time_" + mech->key + ".csv", csv.str());
   }
 
   // ------------------------------------------------------------- 3. work-precision
@@ -397,7 +403,7 @@ std::string runStudy(const StudyOptions& opt) {
      << "against N = 32 (same integrator, trapezoidal dt = 1 ms). generalized_alpha runs at rho_inf = 0.9. "
      << "Plot: `work_precision.png`.\n\n"
      << "| model | integrator | setting | CPU [s] | output error | sensitivity error |\n|---|---|---|---|---|---|\n";
-  std::ofstream wcsv(opt.outDir + "/work_precision.csv");
+  std::ostringstream wcsv;
   wcsv << "model,integrator,setting,t,cpu_s,error,value_error\n";
   auto wrow = [&](const std::string& model, const std::string& integ, const std::string& set, double v, double t,
                   const Result& r, double verr, double serr) {
@@ -448,6 +454,7 @@ std::string runStudy(const StudyOptions& opt) {
     }
   }
   md << "\n";
+  files.emplace_back("work_precision.csv", wcsv.str());
 
   // ------------------------------------------------------------------ 4. ND step sweep
   progress("nd step sweep");
@@ -456,7 +463,7 @@ std::string runStudy(const StudyOptions& opt) {
      << "integrators the exact derivative of the discrete solution; for IDAS rtol 1e-8, its own dd): "
      << "rigid five-bar dz2/dL_A1 at t = 1 s, four-bar dz4/dm at t = " << fourBar.tPoint << " s. "
      << "Plot: `nd_sweep.png`.\n\n";
-  std::ofstream ncsv(opt.outDir + "/nd_sweep.csv");
+  std::ostringstream ncsv;
   const std::vector<Method> schemes = {{"trapezoidal central", config("trapezoidal", 1e-3, "nd", 0, 0)},
                                        {"trapezoidal forward", config("trapezoidal", 1e-3, "nd-forward", 0, 0)},
                                        {"IDAS 1e-8 central", config("idas", 1e-8, "nd", 0, 0)},
@@ -496,6 +503,7 @@ std::string runStudy(const StudyOptions& opt) {
     }
     md << "\n";
   }
+  files.emplace_back("nd_sweep.csv", ncsv.str());
 
   // ------------------------------------------------------- 5. stability at the extremes
   // The full sweeps behind tests/test_extremes.cpp: every run ends in a result or a
@@ -548,9 +556,18 @@ std::string runStudy(const StudyOptions& opt) {
     md << "![error over time, " << mech->title << "](error_time_" << mech->key << ".png)\n\n";
   md << "![work-precision](work_precision.png)\n\n![nd step sweep](nd_sweep.png)\n\n"
      << "This run took " << fmt(wall, 4) << " s wall clock, " << fmt(cpu, 4) << " s CPU.\n";
-  const std::string report = opt.outDir + "/study.md";
-  std::ofstream(report) << md.str();
-  return report;
+  files.emplace_back("study.md", md.str());
+  std::vector<std::string> plots = {"cost.png", "work_precision.png", "nd_sweep.png"};
+  for (const Mechanism* mech : all) plots.push_back("error_time_" + mech->key + ".png");
+  return writeStudyOutput(dir, files, plots);
+}
+
+std::string writeStudyOutput(RunDirectory& dir, const std::vector<std::pair<std::string, std::string>>& files,
+                             const std::vector<std::string>& plots) {
+  for (const auto& [name, text] : files) writeFileChecked(dir.staging() + "/" + name, dir.final() + "/" + name, text);
+  for (const auto& p : plots) dir.keep(p);  // drawn by scripts/plot_study.py from the CSVs
+  dir.commit();
+  return dir.final() + "/study.md";
 }
 
 }  // namespace flexsens

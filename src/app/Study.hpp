@@ -5,8 +5,12 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace flexsens {
+
+class RunDirectory;
 
 struct StudyOptions {
   std::string outDir = "bench/study";
@@ -14,7 +18,14 @@ struct StudyOptions {
   bool quick = false;           ///< shorter sweeps (smoke test)
 };
 
-/// Runs the study; returns the path of the report.
+/// Runs the study into opt.outDir (output/RunDirectory.hpp: locked, refused when it holds
+/// files flexsens did not write, staged); returns the path of the report.
 std::string runStudy(const StudyOptions& opt);
+/// The study's last step: writes `files` (name, text) into dir's staging folder, every write
+/// checked, lists `plots` as files scripts/plot_study.py draws there, and moves the folder
+/// into place. Throws OutputError naming the file (a full disk: "No space left on device");
+/// then nothing is moved into place. Returns the report's path (<final>/study.md).
+std::string writeStudyOutput(RunDirectory& dir, const std::vector<std::pair<std::string, std::string>>& files,
+                             const std::vector<std::string>& plots);
 
 }  // namespace flexsens

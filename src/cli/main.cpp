@@ -1,8 +1,10 @@
 // flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`,
 // `flexsens modes SCENE`. Exit codes: 0 success, 1 bad input (scene or options), 2 numerical
-// failure, 3 other error, 4 results could not be written, 5 run completed but suspect (energy
-// audit), 6 the output directory is in use by another run, 128 + signal (130 SIGINT, 143
-// SIGTERM) interrupted, results up to the time reached.
+// failure, 3 other error, 4 results could not be written or the output folder was refused
+// (it holds files flexsens did not write; nothing touched), 5 run completed but suspect
+// (energy audit), 6 the output folder is in use by another run of any kind (run, cases,
+// static, study), 128 + signal (130 SIGINT, 143 SIGTERM) interrupted, results up to the time
+// reached.
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
@@ -16,8 +18,41 @@
 #include "core/RedundantRows.hpp"
 #include "core/Types.hpp"
 #include "integrators/InitialState.hpp"
+#include "output/RunDirectory.hpp"
 
 using namespace flexsens;
+
+namespace {
+
+/// Runs the scene (or each of its PIM cases, into <folder>/<case>/) with the output folder
+/// locked once for all of them. Returns the exit status: 0, or 5 when a result is suspect,
+/// or 128 + signal when a signal arrived after a case's last step.
+int runScenes(const std::string& scenePath, const std::vector<Scene>& scenes, const std::vector<std::string>& cases) {
+  RunDirectory out(scenes.front().output.directory, cases.front().empty() ? "run" : "cases");
+  int status = 0;
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& sc = scenes[i];
+    std::cerr << "flexsens: running " << scenePath << (cases[i].empty() ? "" : " case " + cases[i]) << " with "
+              << sc.integrator.type << " to t = " << sc.integrator.tEnd << " s\n";
+    const RunResult r = runScene(sc, out, cases[i]);
+    std::cout << "results written to " << r.directory << "/ (series.csv, "
+              << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
+              << "  " << r.stats.steps << " steps, " << r.stats.newtonIterations << " Newton iterations, "
+              << r.stats.factorizations << " factorizations, " << r.wallSeconds << " s wall, max |Phi| = "
+              << r.stats.maxConstraintViolation << "\n";
+    if (!r.suspect.empty()) {
+      std::cerr << "flexsens: SUSPECT result (summary.json status 'suspect'): " << r.suspect << "\n";
+      status = 5;
+    }
+    if (const int sig = interruptSignal()) {  // arrived after the last step: later cases do not start
+      std::cerr << "flexsens: interrupted; " << r.directory << " is complete, later cases were not run\n";
+      return 128 + sig;
+    }
+  }
+  return status;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // VTK's XML writer allocates and frees large buffers for every frame; glibc would return
@@ -85,7 +120,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (*studyCmd) {
-      std::cout << "study report written to " << runStudy(study) << "\n";
+      const std::string report = runStudy(study);  // first: a failed study prints no "written"
+      std::cout << "study report written to " << report << "\n";
       return 0;
     }
     if (*statik) {
@@ -201,28 +237,7 @@ int main(int argc, char** argv) {
       scenes.push_back(c.empty() ? std::move(base) : readScene(scenePath, c));
       applyOptions(scenes.back(), opt);
     }
-    int status = 0;
-    for (size_t i = 0; i < scenes.size(); ++i) {
-      const Scene& sc = scenes[i];
-      const std::string dir = sc.output.directory + (cases[i].empty() ? "" : "/" + cases[i]);
-      std::cerr << "flexsens: running " << scenePath << (cases[i].empty() ? "" : " case " + cases[i])
-                << " with " << sc.integrator.type << " to t = " << sc.integrator.tEnd << " s\n";
-      const RunResult r = runScene(sc, dir);
-      std::cout << "results written to " << r.directory << "/ (series.csv, "
-                << (sc.output.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
-                << "  " << r.stats.steps << " steps, " << r.stats.newtonIterations << " Newton iterations, "
-                << r.stats.factorizations << " factorizations, " << r.wallSeconds << " s wall, max |Phi| = "
-                << r.stats.maxConstraintViolation << "\n";
-      if (!r.suspect.empty()) {
-        std::cerr << "flexsens: SUSPECT result (summary.json status 'suspect'): " << r.suspect << "\n";
-        status = 5;
-      }
-      if (const int sig = interruptSignal()) {  // arrived after the last step: later cases do not start
-        std::cerr << "flexsens: interrupted; " << r.directory << " is complete, later cases were not run\n";
-        return 128 + sig;
-      }
-    }
-    return status;
+    return runScenes(scenePath, scenes, cases);
   } catch (const InputError& e) {
     std::cerr << "flexsens: error: " << e.what() << "\n";
     return 1;

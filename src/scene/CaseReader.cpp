@@ -180,6 +180,13 @@ std::optional<YAML::Node> selectCase(SceneContext& ctx, const YAML::Node& list, 
     const std::string path = at("cases", i);
     r.allowKeys(c, path, {"name", "parameters", "rigidize", "rigid_model", "sdofs", "description"});
     const std::string name = r.text(r.require(c, "name", path), path + ".name");
+    // The case's results go to <output.directory>/<name>: a plain folder name, never a path.
+    const bool plain = !name.empty() && name[0] != '.' && name.size() <= 100 &&
+                       name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") ==
+                           std::string::npos;
+    if (!plain)
+      r.fail(c["name"], path + ".name", "expected a case name that can name its output folder (letters, digits, "
+                                        "'_', '-', '.'; not starting with '.'; at most 100 characters), got '" + name + "'");
     for (const auto& other : sc.caseNames)
       if (other == name) r.fail(c["name"], path + ".name", "duplicate case name '" + name + "'");
     sc.caseNames.push_back(name);
