@@ -272,3 +272,31 @@ TEST(ConvergenceOrder, MaggiHealthSeesTheKeptSingularPartition) {
     }
   }
 }
+
+// The midpoint rule's dd sensitivities with a rheonomic driver whose Jacobian turns with time
+// (the reaction Phi_q(q_{n+1/2}, t_{n+1/2})^T lambda; Phi(q_{n+1}, t_{n+1}) = 0): a motor turns
+// the first bar of a planar double pendulum by 0.5 sin(3t); the parameter is the amplitude (the
+// bars' masses do not change a pendulum's motion). dd against central differences of whole
+// runs (1e-6 of the largest) and AD (1e-10).
+TEST(ConvergenceOrder, MidpointSensitivitiesWithATurningDriverMatchCentralDifferences) {
+  const std::string text = std::string(R"(dimension: 2
+gravity: [0, -9.81]
+nodes:
+  - {name: O, position: [0, 0], ground: true}
+  - {name: X, position: [1, 0], ground: true}
+  - {name: T, position: [1, 0]}
+  - {name: U, position: [1.8, 0.3]}
+elements:
+  - {name: bar, type: rigid_bar, nodes: [O, T], mass: 2.0}
+  - {name: bar2, type: rigid_bar, nodes: [T, U], mass: 1.0}
+constraints:
+  - {name: motor, type: motor, nodes: [O, X, O, T], function: {type: harmonic, amplitude: 0.5, omega: 3}}
+parameters:
+  - {name: A, of: motor, property: amplitude}
+integrator: {type: midpoint, t_end: 0.5, dt: 0.002, frame_interval: 0.1}
+)");
+  const Scene sc = readSceneText(text, "driven.yaml");
+  const Model& m = *sc.model;
+  const IntegratorSettings set = test::integratorSettings("midpoint", 2e-3, 0.5);
+  test::expectCoordinateSensitivities(m, set, m.dof(m.nodeIndex("U"), 1));
+}
