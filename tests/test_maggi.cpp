@@ -194,7 +194,7 @@ TEST(MaggiPartition, RepartitionKeepsTheSolutionContinuous) {
   const auto r = load(rigidScene(), "R1");
   const IntegratorSettings set = rk4(5e-3, 0.4, 5e-3);  // a frame every step
   MaggiOptions never, eager;
-  never.maxCondition = never.maxConditionGrowth = std::numeric_limits<double>::infinity();
+  never.maxCondition = never.maxConditionGrowth = never.maxCouplingGrowth = std::numeric_limits<double>::infinity();
   eager.maxConditionGrowth = 1.02;
   MaggiReport neverRep, eagerRep;
   Recorder a, b;
@@ -244,7 +244,7 @@ TEST(MaggiPartition, DefaultRepartitionCrossesTheSingularBlockRegion) {
   EXPECT_LT(errDef, 1e-6);  // test 1: 9.1e-8 m at 5 ms
 
   MaggiOptions never;
-  never.maxCondition = never.maxConditionGrowth = std::numeric_limits<double>::infinity();
+  never.maxCondition = never.maxConditionGrowth = never.maxCouplingGrowth = std::numeric_limits<double>::infinity();
   Recorder nv;
   std::string failure;
   try {

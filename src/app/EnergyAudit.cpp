@@ -33,6 +33,11 @@ void EnergyAudit::stepped(const State& x) {
 
 // The motion's own energy: the largest kinetic energy, swing of the potential or work done on
 // it. A model at rest has none; then the floor 1e-9 |V| keeps round-off in V from counting.
+double EnergyAudit::worstFraction() const {
+  const double s = judged() ? scale() : 0.0;
+  return s > 0.0 ? std::max(maxRise_, maxLoss_) / s : -1.0;
+}
+
 double EnergyAudit::scale() const {
   const double floor = 1e-9 * std::max({std::abs(e0_), std::abs(vMin_), std::abs(vMax_)}) + 1e-300;
   return std::max({tMax_, vMax_ - vMin_, wMax_, floor});

@@ -31,6 +31,9 @@ class EnergyAudit : public ForwardingObserver {
   std::string reason() const;
   /// summary.json's "energy" object.
   std::string json() const;
+  /// The largest gain or loss of the balance as a fraction of the energy scale; -1 when the
+  /// run was not judged (no state, the drivers' multipliers missing, a zero scale).
+  double worstFraction() const;
 
  private:
   double scale() const;

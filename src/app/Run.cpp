@@ -276,6 +276,13 @@ RunResult runScene(const Scene& sc, RunDirectory& dir, const std::string& part) 
     if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
       NdSettings nd{sc.sensitivity.ndScheme, sc.sensitivity.ndStep};
       res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, health);
+    } else if (sc.integrator.type == "maggi_rk4") {  // with its error estimate, for the health
+      MaggiReport maggi;
+      res.stats = integrateMaggi(as, p, start, sc.integrator, health, MaggiOptions{}, &maggi);
+      // The audit switched off on both sides (tolerances 0) stays off here too.
+      const bool audited = sc.integrator.energyTolerance > 0 || sc.integrator.energyLossTolerance > 0;
+      health.errorEstimate("maggi_rk4", maggi.errorEstimate, maggi.maxStepErrorEstimate, maggi.maxStepErrorTime,
+                           audited ? audit.worstFraction() : -1.0);
     } else {
       res.stats = integrate(as, p, start, sc.integrator, health);
     }

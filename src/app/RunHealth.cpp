@@ -83,7 +83,31 @@ std::string RunHealth::reason() const {
     if (os.tellp() > 0) os << "; ";
     os << masslessWords();
   }
+  if (!estimator_.empty() && !(errorSum_ <= kErrorEstimateTolerance * size_)) {
+    if (os.tellp() > 0) os << "; ";
+    os << estimator_ << "'s error estimate: the local position errors summed over the steps reached " << errorSum_
+       << " m, above " << kErrorEstimateTolerance << " of the model's size L = " << size_
+       << " m (largest in one step " << errorMaxStep_ << " m, at t = " << tErrorMaxStep_
+       << " s); the fixed step is too large for this motion: use a smaller --dt (the estimate falls like dt^3) "
+       << "or --integrator idas";
+  }
+  if (!estimator_.empty() && energyFraction_ > kRk4EnergyTolerance) {
+    if (os.tellp() > 0) os << "; ";
+    os << estimator_ << " changed the energy balance E - E0 - W by " << energyFraction_
+       << " of the run's energy scale (summary.json energy), above " << kRk4EnergyTolerance
+       << ": a fourth-order scheme without numerical dissipation keeps it orders below, so the motion took a "
+       << "wrong turn (e.g. near a singular configuration); use a smaller --dt or --integrator idas, and compare";
+  }
   return os.str();
+}
+
+void RunHealth::errorEstimate(const std::string& integrator, double sum, double maxStep, double tMaxStep,
+                              double energyFraction) {
+  energyFraction_ = energyFraction;
+  estimator_ = integrator;
+  errorSum_ = sum;
+  errorMaxStep_ = maxStep;
+  tErrorMaxStep_ = tMaxStep;
 }
 
 std::string RunHealth::masslessWords() const {
@@ -123,6 +147,12 @@ std::string RunHealth::json() const {
     os << ", \"min_massless_stiffness_ratio\": " << jsonNumber(masslessRatio_) << ", \"massless_stiffness_at_t\": "
        << jsonNumber(tMassless_) << ", \"massless_softest_coordinate\": " << jsonString(masslessCoordinate_)
        << ", \"initial_massless_stiffness_ratio\": " << jsonNumber(masslessRatio0_);
+  if (!estimator_.empty())
+    os << ", \"error_estimate_m\": " << jsonNumber(errorSum_) << ", \"error_estimate_tolerance_m\": "
+       << jsonNumber(kErrorEstimateTolerance * size_) << ", \"max_step_error_estimate_m\": " << jsonNumber(errorMaxStep_)
+       << ", \"max_step_error_estimate_at_t\": " << jsonNumber(tErrorMaxStep_)
+       << ", \"energy_balance_fraction\": " << jsonNumber(energyFraction_)
+       << ", \"energy_balance_tolerance\": " << jsonNumber(kRk4EnergyTolerance);
   os << "}";
   return os.str();
 }

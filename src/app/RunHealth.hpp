@@ -34,6 +34,20 @@ inline constexpr double kConditioningWork = 1e8;     ///< m^2 n per frame above 
 /// panels at the end of their swing 0.044, a well-posed configuration IDAS passes at rtol 1e-8
 /// and 1e-10 (0.05 blamed it for the trapezoidal rule's failures, which have another cause).
 inline constexpr double kNearSingular = 0.02;
+/// maggi_rk4: its local position error estimates summed over the steps (integrators/Maggi.hpp,
+/// MaggiReport::errorEstimate) above this fraction of L make the run `suspect`. The sum bounds
+/// the global error in the asymptotic range (an overestimate: it adds up the embedded
+/// third-order solution's local errors). Rigid pendulum (L = 1 m, released horizontal, 5 s):
+/// see tests/test_maggi_pendulum.cpp for the sums and the true errors per dt.
+inline constexpr double kErrorEstimateTolerance = 1e-3;
+/// maggi_rk4: the energy audit's largest gain or loss above this fraction of the energy scale
+/// makes the run `suspect` (the audit's own tolerances, 5% and 10%, are for dissipative
+/// schemes). RK4 has no numerical dissipation and a fourth-order error: a correct run keeps
+/// the balance orders below (rigid pendulum 8e-7 at dt 1e-2 s; the audit's trapezoidal sum of
+/// the dampers' and loads' work adds O(dt^2): 4e-6 on its damped, pushed pendulum at 1e-3 s).
+/// The local error estimate cannot see a wrong partition kept through a singular block (the
+/// pendulum lost 4% of its energy at the bottom while each step's estimate stayed ~1e-5 m).
+inline constexpr double kRk4EnergyTolerance = 1e-3;
 inline constexpr double kMasslessUnstable = 1e-9;    ///< -lambda_min / lambda_max of the massless stiffness [-]
 inline constexpr int kMasslessCheckMax = 3000;       ///< n above which it is skipped (dense n x n K per frame)
 
@@ -50,6 +64,11 @@ class RunHealth : public ForwardingObserver {
   std::string masslessWords() const;
   /// summary.json's "health" object.
   std::string json() const;
+  /// The integrator's own error estimate (maggi_rk4): the sum over the steps of the local
+  /// position error estimates [m], the largest in one step and when [s], and the energy audit's
+  /// worst balance as a fraction of its scale (< 0: not judged); judged in reason().
+  void errorEstimate(const std::string& integrator, double sum, double maxStep, double tMaxStep,
+                     double energyFraction);
 
  private:
   const Assembler& as_;
@@ -67,6 +86,8 @@ class RunHealth : public ForwardingObserver {
   double masslessRatio_ = 1.0, tMassless_ = 0.0;  ///< smallest lambda_min / lambda_max, its time
   double masslessRatio0_ = 0.0;                   ///< the same at the first frame
   std::string masslessCoordinate_;
+  std::string estimator_;  ///< the integrator that estimated its error; empty: none did
+  double errorSum_ = 0.0, errorMaxStep_ = 0.0, tErrorMaxStep_ = 0.0, energyFraction_ = -1.0;
 };
 
 }  // namespace flexsens

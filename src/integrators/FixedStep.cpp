@@ -25,11 +25,17 @@ namespace {
 ///   (1 - am) w_{n+1} + am w_n = (1 - af) a_{n+1} + af a_n,  w = pseudo-acceleration.
 /// Trapezoidal = (am, af, beta, gamma) = (0, 0, 1/4, 1/2), so w = a. BDF-1 is separate.
 /// Implicit midpoint rule: q_{n+1} = q_n + h (v_n + v_{n+1}) / 2, M (v_{n+1} - v_n) / h =
-/// Q(q_{n+1/2}, v_{n+1/2}) - Phi_q(q_{n+1})^T lambda with q_{n+1/2} = (q_n + q_{n+1}) / 2: a
-/// symplectic Runge-Kutta method, so with no constraint it conserves linear and angular
-/// momentum exactly (internal forces of a frame-indifferent energy have no net force or moment
-/// at any configuration) and every quadratic invariant; energy is bounded, not drifting.
-/// Constraints stay at t_{n+1} (index 3), as in the other schemes.
+/// Q(q_{n+1/2}, v_{n+1/2}, t_{n+1/2}) - Phi_q(q_{n+1/2}, t_{n+1/2})^T lambda with
+/// q_{n+1/2} = (q_n + q_{n+1}) / 2: a symplectic Runge-Kutta method, so with no constraint it
+/// conserves linear and angular momentum exactly (internal forces of a frame-indifferent
+/// energy have no net force or moment at any configuration) and every quadratic invariant;
+/// energy is bounded, not drifting. Constraints hold at t_{n+1} (index 3), Phi(q_{n+1}) = 0, as
+/// in the other schemes; the reaction acts where the forces do. With the reaction at q_{n+1}
+/// instead, the step's force is off by (h/2) (sum lambda_i Hess Phi_i) v = O(h), one sign
+/// every step: first order (seed-000 double pendulum, joint angle over 2 s against IDAS:
+/// 1.6e-3, 8.2e-4, 4.1e-4 rad at dt 2, 1, 0.5 ms). At the midpoint the step is symmetric
+/// (swap n and n+1, h -> -h: the same equations, given Phi(q_n) = 0), hence of even order: 2.
+/// lambda is then the mid-step multiplier; the loads read t_{n+1/2} for the same reason.
 struct Scheme {
   double ca = 0, cv = 0;
   bool bdf1 = false, trapezoidal = false, midpoint = false;
@@ -101,7 +107,25 @@ struct Scheme {
     buf = fw * next + (1.0 - fw) * old;
     return buf;
   }
+  /// The time [s] of the force point of the step ending at t.
+  double forceTime(double t) const { return t - (1.0 - fw) * h; }
 };
+
+/// The residual's constraint parts: phi = Phi(q_{n+1}, t_{n+1}), and the reaction
+/// phiQTl = Phi_q^T l at the force point (qf, tf) (q_{n+1}, t_{n+1} but for the midpoint rule).
+/// Leaves the assembler at time t.
+void constraintResidual(const Assembler& as, const Scheme& sc, const VecX& q, const VecX& qf, double t,
+                        const VecX& p, const VecX& l, VecX& phi, VecX& phiQTl, VecX& scratch) {
+  as.setTime(t);
+  if (sc.fw == 1.0) {
+    as.constraintTerms(q, p, l, phi, phiQTl);
+    return;
+  }
+  as.setTime(sc.forceTime(t));
+  as.constraintTerms(qf, p, l, scratch, phiQTl);
+  as.setTime(t);
+  phi = as.phi(q, p);
+}
 
 /// Modified Newton refreshes its matrix when an update shrinks by less than this factor.
 /// (Satellite SAT1, 2 s, BDF-1: 0.1 / 0.3 / 0.5 / 0.9 gave 318 / 287 / 268 / 302 factorizations.)
@@ -134,15 +158,18 @@ bool sameTo(const VecX& a, const VecX& b, double tol) {
   return a.size() == b.size() && (a - b).lpNorm<Eigen::Infinity>() <= tol * (1.0 + a.lpNorm<Eigen::Infinity>());
 }
 
-/// The Newton matrix at q_{n+1} = q, with the forces at their scheme point (qf, vf).
+/// The Newton matrix at q_{n+1} = q (time t), with the forces and the reaction at their
+/// scheme point (qf, vf) at sc.forceTime(t) (dqf/dq = fw). Leaves the assembler at time t.
 SpMat newtonMatrix(const Assembler& as, SparseAccumulator& acc, const VecX& q, const VecX& qf, const VecX& vf,
-                   const VecX& lt, const VecX& p, const Scheme& sc) {
+                   const VecX& lt, const VecX& p, const Scheme& sc, double t) {
   const int n = as.n(), m = as.m();
   const double sigma = 1.0 / sc.ca;
   acc.begin(n + m, n + m);
+  as.setTime(sc.forceTime(t));
   as.addMassAndForceJacobian(acc, qf, vf, p, 1.0, sigma * sc.fw, sigma * sc.fw * sc.cv, 0, 0);
-  as.addHessian(acc, q, p, lt, 1.0, 0, 0);
-  as.addPhiQ(acc, q, p, 1.0, 0, n, true);
+  as.addHessian(acc, qf, p, lt, sc.fw, 0, 0);
+  as.addPhiQ(acc, qf, p, 1.0, 0, n, true);
+  as.setTime(t);
   as.addPhiQ(acc, q, p, 1.0, n, 0, false);
   return acc.finish();
 }
@@ -197,6 +224,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
   std::vector<State> dnext;  // the next step's sensitivities
   MatX X, hist;              // their right-hand sides and history terms, kept across steps
   VecX phiBuf, phiQTlBuf;    // the residual's constraint terms (and their p-derivatives)
+  VecX phiMidBuf, reactionP; // midpoint: Phi at the force point (unused), the reaction's p-derivative
   VecX forceTerm, inertiaTerm;  // the sensitivity right-hand sides' force and inertia parts
   VecX luQ, luL;             // the iterate (q, sigma lambda) lu's matrix was assembled at ...
   long luStep = 0;           // ... in this step
@@ -232,8 +260,10 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     auto residual = [&](const VecX& qq, const VecX& ll) {
       aBuf = sc.ca * (qq - old.q) + abar;
       vBuf = sc.cv * (qq - old.q) + vbar;
-      as.constraintTerms(qq, p, ll, phiBuf, phiQTlBuf);
-      as.force(sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(vBuf, old.v, vfBuf), p, forceBuf);
+      const VecX& qf = sc.forcePoint(qq, old.q, qfBuf);
+      as.setTime(sc.forceTime(t));
+      as.force(qf, sc.forcePoint(vBuf, old.v, vfBuf), p, forceBuf);
+      constraintResidual(as, sc, qq, qf, t, p, ll, phiBuf, phiQTlBuf, phiMidBuf);
       VecX r(n + m);
       r.head(n).noalias() = M * aBuf;
       r.head(n) = sigma * (r.head(n) - forceBuf) + phiQTlBuf;
@@ -245,7 +275,7 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
     double lastUpdate = 0.0, lastResidual = 0.0;
     auto factorAt = [&](const VecX& qq, const VecX& ll, const char* how) {
       vBuf = sc.cv * (qq - old.q) + vbar;
-      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(vBuf, old.v, vfBuf), ll, p, sc),
+      lu.factor(newtonMatrix(as, acc, qq, sc.forcePoint(qq, old.q, qfBuf), sc.forcePoint(vBuf, old.v, vfBuf), ll, p, sc, t),
                 [&] {
                   std::ostringstream what;
                   what << "Newton matrix at t = " << t << " s (step " << step << ", h = " << h << " s" << how << ")";
@@ -464,10 +494,11 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
       if (luAtSolution) {
         st.sensitivityReusedLu++;
       } else {
-        newtonMatrix(as, acc, q, qf, vf, lt, p, sc);
+        newtonMatrix(as, acc, q, qf, vf, lt, p, sc, t);
         st.jacobianEvaluations++;
       }
       const SpMat& A = acc.matrix();  // its values are read only when assembled here
+      as.setTime(sc.forceTime(t));  // the force derivatives below: at the force point
       kv.begin(n, n);
       as.addForceJacobian(kv, qf, vf, p, 0.0, -1.0, 0, 0, 0);
       const SpMat dQdv = kv.finish();
@@ -489,12 +520,19 @@ IntegratorStats integrateFixedStep(const Assembler& as, const VecX& p, StateWith
         vh = -sc.cv * dold.q + dvbar;
         // d(qf, vf)/dp at fixed q_{n+1}: ((1 - fw) dq_n, fw vh + (1 - fw) dv_n).
         // Into kept vectors (no heap traffic per step and parameter): Q_p + dQ/d(q, v) terms.
+        as.setTime(sc.forceTime(t));
         as.forceParamDerivative(qf, vf, p, int(k), forceTerm);
         if (sc.fw != 1.0)
           forceTerm += (1.0 - sc.fw) * (dQdq * dold.q) + dQdv * VecX(sc.fw * vh + (1.0 - sc.fw) * dold.v);
         else
           forceTerm.noalias() += dQdv * vh;
+        if (sc.fw != 1.0) {  // the reaction Phi_q(qf)^T sigma lambda: Phi_qp^T sigma lambda + (1 - fw) H dq_n
+          as.constraintParamTerms(qf, p, int(k), lt, phiMidBuf, reactionP);
+          reactionP += (1.0 - sc.fw) * as.hessianTimes(qf, p, lt, dold.q);
+        }
+        as.setTime(t);
         as.constraintParamTerms(q, p, int(k), lt, phiBuf, phiQTlBuf);  // Phi_p, Phi_qp^T sigma lambda
+        if (sc.fw != 1.0) phiQTlBuf = reactionP;
         as.massParamDerivativeTimes(p, int(k), next.a, inertiaTerm);    // M_p a, then + M ah
         inertiaTerm.noalias() += M * ah;
         X.col(k).head(n) = -(sigma * (inertiaTerm - forceTerm) + phiQTlBuf);

@@ -95,6 +95,12 @@ std::string advice(const Assembler& as, const VecX& p, const VecX& q, const VecX
   return os.str();
 }
 
+/// How well a partition holds at a state: the reciprocal 1-norm condition estimate of
+/// Phi_q,d, and the largest |entry| of B = Phi_q,d^-1 Phi_q,i (the map dq_d = -B dq_i).
+struct BlockHealth {
+  double rcond = 1.0, coupling = 0.0;
+};
+
 /// f(y) and its linearization for the sensitivities, under a fixed partition.
 class Rhs {
  public:
@@ -105,8 +111,8 @@ class Rhs {
   const Partition& partition() const { return P_; }
 
   /// Evaluates at y (time t [s], inside step `step`): the full state with sensitivities into s,
-  /// y' into dy, and returns the reciprocal condition estimate of Phi_q,d.
-  double eval(const Y& y, double t, long step, StateWithSens& s, Y& dy) const {
+  /// y' into dy, and returns how well the partition holds there.
+  BlockHealth eval(const Y& y, double t, long step, StateWithSens& s, Y& dy) const {
     const int n = as_.n(), m = as_.m();
     st_.residualEvaluations++;
     if (!y.q.allFinite() || !y.vi.allFinite()) fail(t, step, "positions or independent velocities");
@@ -116,7 +122,8 @@ class Rhs {
     x.q = y.q;
     x.v.resize(n);
     for (size_t i = 0; i < P_.indep.size(); ++i) x.v[P_.indep[i]] = y.vi[i];
-    double rcond = 1.0;
+    BlockHealth health;
+    double& rcond = health.rcond;
     Eigen::PartialPivLU<MatX> lu;
     MatX Ji;
     if (m) {
@@ -136,6 +143,10 @@ class Rhs {
            << advice(as_, p_, ref_.q, ref_.v, set_.dt);
         throw NumericalError(os.str());
       }
+      // dq_d = -B dq_i on the constraint surface: |B|max is how far the dependent coordinates
+      // amplify the independent ones (unbounded as Phi_q,d turns singular, also when it is
+      // 1 x 1, whose rcond is 1 up to the singularity itself).
+      if (Ji.size()) health.coupling = lu.solve(Ji).lpNorm<Eigen::Infinity>();
       // Phi_q v + Phi_t = 0 for the dependent velocities [m/s].
       const VecX vd = -lu.solve(VecX(Ji * y.vi + as_.phiT(y.q, p_)));
       for (size_t i = 0; i < P_.dep.size(); ++i) x.v[P_.dep[i]] = vd[i];
@@ -171,7 +182,7 @@ class Rhs {
       if (!d.q.allFinite() || !d.v.allFinite() || !d.a.allFinite() || !d.lambda.allFinite())
         fail(t, step, "sensitivities of parameter " + std::to_string(k));
     }
-    return rcond;
+    return health;
   }
 
   [[noreturn]] void fail(double t, long step, const std::string& what) const {
@@ -309,16 +320,18 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
   Y y = toY(start, f.partition());
   StateWithSens cur;  // full state at y, also the first stage derivative of the next step
   Y k1, k2, k3, k4;
-  double rcond = f.eval(y, t0, 0, cur, k1);
-  double condAtPartition = 1.0 / rcond;
+  BlockHealth block = f.eval(y, t0, 0, cur, k1);
+  double condAtPartition = 1.0 / block.rcond, couplingAtPartition = block.coupling;
+  double errorSum = 0.0, errorMax = 0.0, errorMaxTime = t0;  // the local error estimates below
   st.maxConstraintViolation = m ? as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>() : 0.0;
   beginRun(obs, cur);
 
   StateWithSens stage;
   for (long step = 1; step <= nsteps; ++step) {
     const double t = t0 + (step - 1) * h;  // step start; not accumulated: frames stay exact
-    const double cond = 1.0 / rcond;
-    if (m && (cond > opt.maxCondition || cond > opt.maxConditionGrowth * condAtPartition)) {
+    const double cond = 1.0 / block.rcond;
+    if (m && (cond > opt.maxCondition || cond > opt.maxConditionGrowth * condAtPartition ||
+              block.coupling > opt.maxCouplingGrowth * std::max(1.0, couplingAtPartition))) {
       // Phi_q,d has degraded: choose the dependent set anew at q_n. The full velocities
       // satisfy Phi_q v = 0, so the new v_i = v[indep] reproduce them (and their derivatives).
       const std::vector<int> old = f.partition().indep;
@@ -329,19 +342,32 @@ IntegratorStats integrateMaggi(const Assembler& as, const VecX& p, StateWithSens
           report->independent.push_back(f.partition().indep);
         }
         y = toY(cur, f.partition());
-        rcond = f.eval(y, t, step, cur, k1);
+        block = f.eval(y, t, step, cur, k1);
       }
       // Measure further growth from here (also when full pivoting kept the same set: it is
       // still the best one, and re-testing it every step would only cost factorizations).
-      condAtPartition = 1.0 / rcond;
+      condAtPartition = 1.0 / block.rcond;
+      couplingAtPartition = block.coupling;
     }
     f.eval(axpy(y, 0.5 * h, k1), t + 0.5 * h, step, stage, k2);
     f.eval(axpy(y, 0.5 * h, k2), t + 0.5 * h, step, stage, k3);
     f.eval(axpy(y, h, k3), t + h, step, stage, k4);
     y = rk4Combine(y, h, k1, k2, k3, k4);
     const double tn = step == nsteps ? set.tEnd : t0 + step * h;
-    rcond = f.eval(y, tn, step, cur, k1);
+    block = f.eval(y, tn, step, cur, k1);
     st.steps++;
+    // Embedded third-order solution y + h/6 (k1 + 2 k2 + 2 k3 + f(y_{n+1})) (its order
+    // conditions hold with c = (0, 1/2, 1/2, 1, 1)): y_{n+1} minus it is h/6 (k4 - f(y_{n+1})),
+    // the step's local error estimate (of the third-order solution: an upper estimate of
+    // RK4's), free since f(y_{n+1}) is the next step's first stage. Positions only.
+    const double local = h / 6.0 * (k4.q - k1.q).lpNorm<Eigen::Infinity>();
+    errorSum += local;
+    if (!(local <= errorMax)) errorMax = local, errorMaxTime = tn;
+    if (report) {
+      report->errorEstimate = errorSum;
+      report->maxStepErrorEstimate = errorMax;
+      report->maxStepErrorTime = errorMaxTime;
+    }
     if (m) {
       const double drift = as.phi(cur.x.q, p).lpNorm<Eigen::Infinity>();
       st.maxConstraintViolation = std::max(st.maxConstraintViolation, drift);
