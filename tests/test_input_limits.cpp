@@ -220,7 +220,8 @@ TEST(ModesWithoutDynamics, CliExitsZeroWithTheReason) {
 }
 
 TEST(MemoryBudget, DenseModesAndPimAreRefusedAboveTheBudgetNamingTheOption) {
-  // A 20-segment beam: n = 60 coordinates; its modes need ~8 n^2 doubles = 230 kB.
+  // A 20-segment planar beam: n = 40 coordinates (x, y of 20 free nodes); its modes need
+  // ~8 n^2 doubles = 102 kB, the PIM case below ~79 kB.
   std::string beam = "dimension: 2\ngravity: [0, -9.81]\nnodes:\n";
   for (int i = 0; i <= 20; ++i)
     beam += "  - {name: N" + std::to_string(i) + ", position: [" + std::to_string(0.05 * i) + ", 0]" +
@@ -229,14 +230,14 @@ TEST(MemoryBudget, DenseModesAndPimAreRefusedAboveTheBudgetNamingTheOption) {
   for (int i = 0; i <= 20; ++i) beam += (i ? ", N" : "N") + std::to_string(i);
   beam += "], E: 2.0e9, density: 1000, section: {side: 0.01}}\nintegrator: {type: bdf1, t_end: 0.01, dt: 0.001}\n";
   const double saved = memoryBudget();
-  EXPECT_EQ(modesOf(beam).n, 60);
-  setMemoryBudget(100e3);  // below 8 * 60^2 * 8 bytes = 230 kB
+  EXPECT_EQ(modesOf(beam).n, 40);
+  setMemoryBudget(50e3);
   try {
     modesOf(beam);
     ADD_FAILURE() << "modes ran above the memory budget";
   } catch (const InputError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("n = 60 coordinates"), std::string::npos) << m;
+    EXPECT_NE(m.find("n = 40 coordinates"), std::string::npos) << m;
     EXPECT_NE(m.find("--max-memory"), std::string::npos) << m;
   }
   // A PIM case rigidizing the beam: dense rows x n matrices, refused the same way.
