@@ -11,12 +11,7 @@ namespace flexsens {
 void EnergyAudit::stepped(const State& x) {
   next_.stepped(x);
   const Energy e = meter_.at(x.q, x.v);
-  // Work of the forces outside T + V: the trapezoidal rule along the path, dq . (Q_n + Q_n+1)
-  // / 2, for dampers and loads (not dt (P_n + P_n+1) / 2: a stiff Kelvin-Voigt mode the step
-  // does not resolve makes v alternate from step to step, and v . Q_d at the step ends counted
-  // 0.0022 J of damping on a plate whose energy fell by 3e-5 J); the drivers' power over time.
-  VecX Q;
-  const double P = alongPath_ ? driverPower(x, Q) : meter_.power(x);
+  const double P = meter_.power(x);
   if (!started_) {
     started_ = true;
     e0_ = e.total();
@@ -26,11 +21,8 @@ void EnergyAudit::stepped(const State& x) {
   } else {
     ++steps_;
     work_ += 0.5 * (x.t - tLast_) * (P + pLast_);  // NaN from here on when P is unknown
-    if (alongPath_ && Q.size()) work_ += 0.5 * (x.q - qLast_).dot(Q + qForceLast_);
   }
   pLast_ = P;
-  qLast_ = x.q;
-  qForceLast_ = Q;
   tLast_ = x.t;
   eLast_ = e.total();
   tMax_ = std::max(tMax_, e.kinetic);
@@ -40,25 +32,6 @@ void EnergyAudit::stepped(const State& x) {
   const double balance = eLast_ - e0_ - work_;
   if (balance > maxRise_) maxRise_ = balance, tRise_ = x.t;
   if (-balance > maxLoss_) maxLoss_ = -balance, tLoss_ = x.t;
-}
-
-EnergyAudit::EnergyAudit(const EnergyMeter& meter, const Assembler& as, const VecX& p, Observer& next,
-                         double riseTolerance, double lossTolerance)
-    : EnergyAudit(meter, next, riseTolerance, lossTolerance) {
-  as_ = &as;
-  p_ = p;
-  alongPath_ = true;
-  for (const auto& el : as.model().elements) dissipative_ = dissipative_ || el->velocityDependent() || el->externalWork();
-}
-
-double EnergyAudit::driverPower(const State& x, VecX& Q) const {
-  const double t0 = as_->time();
-  as_->setTime(x.t);  // loads and drivers at the state's time; the integrator's time restored
-  if (dissipative_) Q = as_->force(x.q, x.v, p_) - as_->conservativeForce(x.q, p_);
-  double P = 0.0;
-  if (as_->rheonomic()) P = x.lambda.size() == as_->m() ? x.lambda.dot(as_->phiT(x.q, p_)) : std::nan("");
-  as_->setTime(t0);
-  return P;
 }
 
 // The motion's own energy: the largest kinetic energy, swing of the potential or work done on

@@ -2,10 +2,9 @@
 // evaluates the energy balance
 //   B(t) = E(t) - E(t0) - W(t),   E = T + V,   W(t) = int_t0^t P dt,
 // P the power of what the potential does not hold: dampers, loads that do external work,
-// drivers, integrated by the trapezoidal rule over the integrator's own steps (IDAS: its
-// internal steps): built with the model, dampers and loads along the path (dq . mean Q, the
-// work the integrator's discrete motion receives), drivers in time; else all as P dt. B is zero
-// for the exact motion, so what it shows is the integrator's error: a gain (B > 0) is a wrong motion (the N-four-bar that flips its crank
+// drivers (EnergyMeter::power), integrated by the trapezoidal rule over the integrator's own
+// steps (IDAS: its internal steps). B is zero for the exact motion, so what it shows is the
+// integrator's error: a gain (B > 0) is a wrong motion (the N-four-bar that flips its crank
 // every frame past a singular configuration gains energy by orders of magnitude while |Phi|
 // stays at round-off), a loss (B < 0) numerical dissipation (BDF-1 takes 40% of the
 // N-four-bar's energy). A gain above `riseTolerance` or a loss above `lossTolerance` times the
@@ -25,9 +24,6 @@ class EnergyAudit : public ForwardingObserver {
   /// `meter` is the run's (the writer's energy columns use the same one).
   EnergyAudit(const EnergyMeter& meter, Observer& next, double riseTolerance, double lossTolerance)
       : ForwardingObserver(next), meter_(meter), riseTol_(riseTolerance), lossTol_(lossTolerance) {}
-  /// With the model: dampers' and loads' work along the path (see the top), drivers' in time.
-  EnergyAudit(const EnergyMeter& meter, const Assembler& as, const VecX& p, Observer& next, double riseTolerance,
-              double lossTolerance);
   void stepped(const State& x) override;
 
   bool suspect() const { return !reason().empty(); }
@@ -48,13 +44,6 @@ class EnergyAudit : public ForwardingObserver {
   double maxRise_ = 0, tRise_ = 0, maxLoss_ = 0, tLoss_ = 0;      ///< largest B > 0, -B > 0
   double tMax_ = 0, vMin_ = 0, vMax_ = 0, wMax_ = 0;  ///< largest T, V range, largest |W| [J]
   double t0_ = 0, qScale_ = 0;  ///< first time [s], largest |q| there [m]
-  VecX qLast_, qForceLast_;     ///< q and the non-conservative forces at the last step [m], [N]
-  /// The drivers' power at x [W] (NaN without multipliers) and, for a model with dampers or
-  /// loads doing work, their forces Q(q, v) - conservativeForce(q) into Q [N].
-  double driverPower(const State& x, VecX& Q) const;
-  const Assembler* as_ = nullptr;
-  VecX p_;
-  bool alongPath_ = false, dissipative_ = false;
   long steps_ = 0;
 };
 

@@ -245,7 +245,7 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   RunDirectory dir(outDir);
   const EnergyMeter meter(as, p);
   ResultWriter writer(sc, dir.staging(), "", dir.final(), "t", &meter);
-  EnergyAudit audit(meter, as, p, writer, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
+  EnergyAudit audit(meter, writer, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
   RunHealth health(as, p, audit);
   RunResult res;
   res.directory = outDir;
