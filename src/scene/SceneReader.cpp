@@ -96,8 +96,10 @@ void requireSegmentMemory(const SceneContext& ctx, const YAML::Node& elements) {
   double total = 0.0;
   for (const auto& item : elements) {
     int segments = 0;
-    if (item.IsMap() && item["curve"] && item["segments"] && YAML::convert<int>::decode(item["segments"], segments))
-      total += std::max(segments, 0);
+    // Counts beyond 1..kMaxSegments get their own located error when the beam is read.
+    if (item.IsMap() && item["curve"] && item["segments"] && YAML::convert<int>::decode(item["segments"], segments) &&
+        segments >= 1 && segments <= kMaxSegments)
+      total += segments;
   }
   if (total <= 0) return;
   std::ostringstream what;
