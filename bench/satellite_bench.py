@@ -25,7 +25,7 @@ def variant(refine, nparams, tend):
     text = re.sub(r"\nparameters:.*?\n(?=[a-z])", "\n", text, flags=re.S)
     text = re.sub(r"segments: (\d+)", lambda m: "segments: %d" % (int(m.group(1)) * refine)
                   if int(m.group(1)) > 1 else m.group(0), text)
-    text = text.replace("gmsh: ../../meshes/satellite.geo", "gmsh: " + os.path.join(ROOT, "meshes", "satellite.geo"))
+    text = text.replace("gmsh: satellite.geo", "gmsh: " + os.path.join(ROOT, "examples", "satellite", "satellite.geo"))
     text = text.replace("frame_interval: 0.1", "frame_interval: %g" % tend).replace("t_end: 10.0", "t_end: %g" % tend)
     if nparams:
         text += "parameters:\n" + "".join("  - {name: %s, of: %s, property: %s}\n" % p for p in PARAMS[:nparams])

@@ -16,11 +16,11 @@ namespace {
 /// E, nu, density and section {side} or {width, height}; every entry bindable.
 std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
   auto sec = std::make_shared<AncfBeamSection>();
-  sec->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
+  sec->E = {r.physical(r.require(el, "E", path), path + ".E", kModulusRange), -1};
   const double nu = r.number(r.require(el, "nu", path), path + ".nu");
   if (!(nu > -1.0 && nu < 0.5)) r.fail(el["nu"], path + ".nu", "expected -1 < nu < 0.5; got " + std::to_string(nu));
   sec->nu = {nu, -1};
-  sec->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
+  sec->density = {r.physical(r.require(el, "density", path), path + ".density", kDensityRange), -1};
   const std::string sp = path + ".section";
   const YAML::Node s = r.require(el, "section", path);
   r.requireMap(s, sp);

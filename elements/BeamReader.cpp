@@ -13,7 +13,7 @@ namespace flexsens {
 /// Shared with the ANCF cable (elements/BeamSectionReader.hpp).
 std::shared_ptr<BeamSection> readBeamSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
   auto sec = std::make_shared<BeamSection>();
-  sec->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
+  sec->E = {r.physical(r.require(el, "E", path), path + ".E", kModulusRange), -1};
   if (el["inertia"]) {
     const std::string in = r.text(el["inertia"], path + ".inertia");
     if (in == "none") sec->massless = true;
@@ -27,7 +27,7 @@ std::shared_ptr<BeamSection> readBeamSection(const YamlReader& r, const YAML::No
       r.fail(el["density"], path + ".density", "a beam with inertia: none has no mass: remove density");
     sec->density = {0.0, -1};
   } else {
-    sec->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
+    sec->density = {r.physical(r.require(el, "density", path), path + ".density", kDensityRange), -1};
   }
   const YAML::Node s = r.require(el, "section", path);
   const std::string sp = path + ".section";

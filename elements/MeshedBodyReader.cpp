@@ -1,9 +1,8 @@
 #include "elements/MeshedBodyReader.hpp"
 
-#include <filesystem>
-
 #include "elements/PlanarRigidBody.hpp"
 #include "pim/Rigidization.hpp"  // AttachedPointConstraint
+#include "scene/InputFiles.hpp"
 
 namespace flexsens {
 
@@ -14,7 +13,7 @@ BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string
   req.dim = elementDim;
   meshKey = r.require(el, "mesh", path);
   const std::string rel = r.text(meshKey, path + ".mesh");
-  req.file = (std::filesystem::path(r.file()).parent_path() / rel).string();
+  req.file = sceneDataFile(r, meshKey, path + ".mesh", rel, inputPolicy().maxMeshBytes);
   const bool isMsh = rel.size() > 4 && rel.substr(rel.size() - 4) == ".msh";
   req.group = r.text(r.require(el, "group", path), path + ".group");
   for (const char* k : {"size", "order"})

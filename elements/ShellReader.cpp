@@ -38,13 +38,13 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
   props->law.law = readMaterialLaw(r, el, path);
-  props->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
+  props->E = {r.physical(r.require(el, "E", path), path + ".E", kModulusRange), -1};
   const double nu = r.number(r.require(el, "nu", path), path + ".nu");
   if (!(nu > -1.0 && nu < 0.5))
     r.fail(el["nu"], path + ".nu", "expected -1 < nu < 0.5 (a compressible isotropic material); got " + fmtNumber(nu));
   props->nu = {nu, -1};
-  props->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
-  props->thickness = {r.positive(r.require(el, "thickness", path), path + ".thickness"), -1};
+  props->density = {r.physical(r.require(el, "density", path), path + ".density", kDensityRange), -1};
+  props->thickness = {r.physical(r.require(el, "thickness", path), path + ".thickness", kThicknessRange), -1};
   bool flatRest = false;
   if (el["rest_shape"]) {
     const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");

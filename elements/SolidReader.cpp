@@ -65,14 +65,14 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     else if (st != "plane_stress")
       r.fail(el["state"], path + ".state", "expected plane_stress or plane_strain; got '" + st + "'");
   }
-  props->E = {r.positive(r.require(el, "E", path), path + ".E"), -1};
+  props->E = {r.physical(r.require(el, "E", path), path + ".E", kModulusRange), -1};
   const double nu = r.number(r.require(el, "nu", path), path + ".nu");
   if (!(nu > -1.0 && nu < 0.5))
     r.fail(el["nu"], path + ".nu", "expected -1 < nu < 0.5: the compressible laws' lambda = E nu / ((1 + nu)(1 - 2 nu)) is "
                                    "infinite at nu = 0.5 (incompressible bodies are not supported); got " + fmtNumber(nu));
   props->nu = {nu, -1};
-  props->density = {r.positive(r.require(el, "density", path), path + ".density"), -1};
-  if (d == 2) props->thickness = {r.positive(r.require(el, "thickness", path), path + ".thickness"), -1};
+  props->density = {r.physical(r.require(el, "density", path), path + ".density", kDensityRange), -1};
+  if (d == 2) props->thickness = {r.physical(r.require(el, "thickness", path), path + ".thickness", kThicknessRange), -1};
   else if (el["thickness"]) r.fail(el["thickness"], path + ".thickness", "a spatial solid has no thickness: remove it");
   if (el["damping"]) {
     const YAML::Node dn = el["damping"];

@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/MemoryBudget.hpp"
 #include "core/SparseAccumulator.hpp"
 #include "integrators/InitialState.hpp"
 
@@ -161,6 +162,19 @@ void checkDroppedRows(const PimCase& c, const Model& m, const Assembler& lam, co
   throw InputError(msg.str());
 }
 
+/// The PIM's dense work for case c (Phi_q, Lambda_q and their projections, the matrix A of
+/// rows (m + m_r + e + d_s) x n, its SVD's full U and its LU): refused before any of it is
+/// allocated when the estimate exceeds the memory budget (core/MemoryBudget.hpp).
+void requirePimMemory(const Assembler& as, const Assembler& lam, const PimCase& c) {
+  const double n = as.n(), rows = as.m() + lam.m() + static_cast<double>(c.sdofs.size());
+  std::ostringstream what;
+  what << "case '" << c.name << "': the PIM's dense matrices (" << static_cast<long long>(rows) << " rows x n = "
+       << as.n() << " coordinates)";
+  requireMemory(doubles(4.0 * rows * n + 2.0 * rows * rows), what.str(),
+                "rigidize fewer or smaller bodies (the case's rigidize list) or coarsen their meshes (the bodies' "
+                "size key)");
+}
+
 }  // namespace
 
 LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lam, const VecX& q, const VecX& p) {
@@ -201,6 +215,7 @@ LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lam
 
 PimReport pimCounts(const Assembler& as, const PimCase& c, const VecX& q, const VecX& p) {
   const Assembler lam(as.model(), &c.lambda, as.derivatives());
+  requirePimMemory(as, lam, c);
   const LambdaSelection sel = selectRigidizationRows(as, lam, q, p);
   PimReport r;
   r.n = as.n();
@@ -220,6 +235,7 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
                               const VecX& p, PimReport& rep) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
+  requirePimMemory(as, lam, c);
   rep.n = m.n;
   rep.m = as.m();
   rep.d = m.n - as.m();
@@ -342,6 +358,7 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
                             const VecX& p0, const VecX& p, int k) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
+  requirePimMemory(as, lam, c);
   const LambdaSelection sel = selectRigidizationRows(as, lam, q0, p0);
   MasslessRows ml(as, q0, p0);
   checkCount(as, lam, sel, ml, c);

@@ -253,14 +253,16 @@ def outputs_bad(out, code):
 
 def judge(exe, path, limit, do_run, work):
     """Outcome tag and, for failures, the reason."""
-    code, err = run([exe, "check", path], limit, cwd=work)
+    # Mutants live outside the checkout and name its meshes by absolute path: allow that tree.
+    allow = ["--allow-path", ROOT]
+    code, err = run([exe, "check", path] + allow, limit, cwd=work)
     tags = []
     for mode in (["check", "run"] if do_run else ["check"]):
         if mode == "run":
             if code != 0:
                 break  # run of an invalid scene repeats check's verdict
             out = os.path.join(work, "out")
-            code, err = run([exe, "run", path, "--out", out], limit, cwd=work)
+            code, err = run([exe, "run", path, "--out", out] + allow, limit, cwd=work)
         if code == "hang":
             return f"{mode}:hang", f"over {limit} s"
         if code < 0:

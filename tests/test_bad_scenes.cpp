@@ -179,13 +179,15 @@ TEST_P(BadScene, RunAndCheckExitOneNamingLineAndKeyAndWriteNothing) {
   fs::create_directories(work);
   ASSERT_FALSE(fs::exists(out));
 
-  const Invocation run = flexsens("run " + quote(file) + " --out " + quote(out.string()), work, s.base / "run.err");
+  // Bad scenes share the meshes of tests/scenes/ and examples/: the source tree is allowed.
+  const std::string allow = " --allow-path " + quote(FLEXSENS_SOURCE_DIR);
+  const Invocation run = flexsens("run " + quote(file) + allow + " --out " + quote(out.string()), work, s.base / "run.err");
   EXPECT_EQ(run.status, 1) << "flexsens run " << name << " stderr:\n" << run.err;
   expectLocatedError(run.err, name, ex);
   EXPECT_FALSE(fs::exists(out)) << "flexsens run wrote the output directory for " << name;
   EXPECT_TRUE(directoryEntries(work).empty()) << "flexsens run wrote into the working directory for " << name;
 
-  const Invocation check = flexsens("check " + quote(file), work, s.base / "check.err");
+  const Invocation check = flexsens("check " + quote(file) + allow, work, s.base / "check.err");
   EXPECT_EQ(check.status, 1) << "flexsens check " << name << " stderr:\n" << check.err;
   expectLocatedError(check.err, name, ex);
   EXPECT_TRUE(directoryEntries(work).empty()) << "flexsens check wrote into the working directory for " << name;

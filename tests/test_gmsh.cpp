@@ -1,4 +1,4 @@
-// Gmsh bridge (meshes/GmshCurves.hpp) and the satellite geometry (meshes/satellite.geo).
+// Gmsh bridge (meshes/GmshCurves.hpp) and the satellite geometry (examples/satellite/satellite.geo).
 //
 // Expected values come from the geometry as stated in /work/shared/reference/satellite.md and
 // the task's reading of it (cube [0,2]x[0,2]x[-2,0], panels folded up to z = 10, springs
@@ -28,7 +28,7 @@ using Eigen::Vector3d;
 
 const double kPi = 3.14159265358979323846;
 
-std::string satelliteGeo() { return std::string(FLEXSENS_SOURCE_DIR) + "/meshes/satellite.geo"; }
+std::string satelliteGeo() { return std::string(FLEXSENS_SOURCE_DIR) + "/examples/satellite/satellite.geo"; }
 std::string testGeo(const std::string& name) {
   return std::string(FLEXSENS_SOURCE_DIR) + "/tests/scenes/gmsh/" + name;
 }

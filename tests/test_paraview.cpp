@@ -191,8 +191,8 @@ TEST(Paraview, DrawsMeshedBodiesAsSurfacesColouredByTheField) {
                           "parameters:\n  - {name: t, of: plate, property: thickness}\n"
                           "integrator: {type: trapezoidal, t_end: 0.02, dt: 0.002, frame_interval: 0.01}\n";
   const fs::path runDir = tmp.dir / "run";
-  ASSERT_EQ(exitCode(quote(FLEXSENS_EXE) + " run " + quote(scene.string()) + " --out " + quote(runDir.string()) +
-                     " > " + quote((tmp.dir / "run.log").string()) + " 2>&1"),
+  ASSERT_EQ(exitCode(quote(FLEXSENS_EXE) + " run " + quote(scene.string()) + " --allow-path " + quote(sourceDir()) +
+                     " --out " + quote(runDir.string()) + " > " + quote((tmp.dir / "run.log").string()) + " 2>&1"),
             0)
       << slurp(tmp.dir / "run.log");
   const fs::path png = tmp.dir / "png";

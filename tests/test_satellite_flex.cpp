@@ -2,7 +2,7 @@
 // panels 2, 3, 4 is a flat pin-jointed truss: the free corner of its diagonal (B3, B5, B8) is
 // joined by three bars (rigidized beam, diagonal, rigid bar) to three points coplanar with it,
 // so it has an infinitesimal out-of-plane flex that is rigid only at second order. The
-// expected values below come from the geometry (meshes/satellite.geo), not from the PIM code.
+// expected values below come from the geometry (examples/satellite/satellite.geo), not from the PIM code.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -16,7 +16,10 @@ void EnergyAudit::stepped(const State& x) {
     started_ = true;
     e0_ = e.total();
     vMin_ = vMax_ = e.potential;
+    t0_ = x.t;
+    qScale_ = x.q.size() ? x.q.lpNorm<Eigen::Infinity>() : 0.0;
   } else {
+    ++steps_;
     work_ += 0.5 * (x.t - tLast_) * (P + pLast_);  // NaN from here on when P is unknown
   }
   pLast_ = P;
@@ -31,16 +34,31 @@ void EnergyAudit::stepped(const State& x) {
   if (-balance > maxLoss_) maxLoss_ = -balance, tLoss_ = x.t;
 }
 
-// The motion's own energy: the largest kinetic energy, swing of the potential or work done on
-// it. A model at rest has none; then the floor 1e-9 |V| keeps round-off in V from counting.
+// The largest rise or loss of the balance as a fraction of the scale (-1 when not judged).
 double EnergyAudit::worstFraction() const {
   const double s = judged() ? scale() : 0.0;
   return s > 0.0 ? std::max(maxRise_, maxLoss_) / s : -1.0;
 }
 
+// The motion's own energy: the largest kinetic energy, swing of the potential or work done on
+// it, with two floors below which the balance is noise, not a verdict:
+// - 1e-9 |V| keeps round-off in V from counting (a model at rest has no motion energy);
+// - the resolution floor 1/2 tr(M) (r L / h)^2: the kinetic energy of the model moving at the
+//   velocity its position resolution gives, r = 1e-10 (the Newton tolerance, relative to the
+//   largest coordinate L, at least 1 m) over the mean step h. The balance error of a motion
+//   resolved to dq is ~ M v dv (dv = dq / h), so it is judged relative to T only where
+//   v >> dv: the first 3 steps of a spin-up (T = 9e-20 J, displacements of 1e-11 m, far below
+//   the 1e-9 m the Newton iteration resolves) are below it.
+double EnergyAudit::resolutionFloor() const {
+  if (steps_ == 0 || !(tLast_ > t0_)) return 0.0;
+  const double h = (tLast_ - t0_) / steps_;
+  const double dv = kPositionResolution * std::max(qScale_, 1.0) / h;
+  return 0.5 * meter_.massTrace() * dv * dv;
+}
+
 double EnergyAudit::scale() const {
   const double floor = 1e-9 * std::max({std::abs(e0_), std::abs(vMin_), std::abs(vMax_)}) + 1e-300;
-  return std::max({tMax_, vMax_ - vMin_, wMax_, floor});
+  return std::max({tMax_, vMax_ - vMin_, wMax_, floor, resolutionFloor()});
 }
 
 std::string EnergyAudit::reason() const {
@@ -68,7 +86,7 @@ std::string EnergyAudit::json() const {
      << ", \"work_J\": " << jsonNumber(work_) << ", \"balance_J\": " << jsonNumber(eLast_ - e0_ - work_)
      << ", \"max_rise_J\": " << jsonNumber(maxRise_) << ", \"max_rise_t\": " << jsonNumber(tRise_)
      << ", \"max_loss_J\": " << jsonNumber(maxLoss_) << ", \"max_loss_t\": " << jsonNumber(tLoss_)
-     << ", \"scale_J\": " << jsonNumber(scale()) << ", \"tolerance\": " << jsonNumber(riseTol_)
+     << ", \"scale_J\": " << jsonNumber(scale()) << ", \"resolution_floor_J\": " << jsonNumber(resolutionFloor()) << ", \"tolerance\": " << jsonNumber(riseTol_)
      << ", \"loss_tolerance\": " << jsonNumber(lossTol_) << ", \"suspect\": " << (suspect() ? "true" : "false")
      << ", \"judged\": " << (judged() ? "true" : "false");
   if (!judged())

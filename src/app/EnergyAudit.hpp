@@ -8,8 +8,8 @@
 // every frame past a singular configuration gains energy by orders of magnitude while |Phi|
 // stays at round-off), a loss (B < 0) numerical dissipation (BDF-1 takes 40% of the
 // N-four-bar's energy). A gain above `riseTolerance` or a loss above `lossTolerance` times the
-// run's energy scale (its largest kinetic energy, potential swing or |W|) marks the run
-// `suspect`; a tolerance of 0 switches that side off.
+// run's energy scale (its largest kinetic energy, potential swing or |W|, at least the
+// resolution floor, see scale()) marks the run `suspect`; a tolerance of 0 switches that side off.
 #pragma once
 
 #include <string>
@@ -37,6 +37,8 @@ class EnergyAudit : public ForwardingObserver {
 
  private:
   double scale() const;
+  double resolutionFloor() const;  ///< [J], 0 before the first step
+  static constexpr double kPositionResolution = 1e-10;  ///< relative, the fixed-step Newton tolerance
   bool judged() const { return started_ && std::isfinite(work_); }
   const EnergyMeter& meter_;
   double riseTol_, lossTol_;
@@ -44,6 +46,8 @@ class EnergyAudit : public ForwardingObserver {
   double e0_ = 0, eLast_ = 0, work_ = 0, pLast_ = 0, tLast_ = 0;  ///< [J], [W], [s]
   double maxRise_ = 0, tRise_ = 0, maxLoss_ = 0, tLoss_ = 0;      ///< largest B > 0, -B > 0
   double tMax_ = 0, vMin_ = 0, vMax_ = 0, wMax_ = 0;  ///< largest T, V range, largest |W| [J]
+  double t0_ = 0, qScale_ = 0;  ///< first time [s], largest |q| there [m]
+  long steps_ = 0;
 };
 
 }  // namespace flexsens

@@ -6,6 +6,8 @@
 #include <map>
 #include <sstream>
 
+#include "core/MemoryBudget.hpp"
+
 namespace flexsens {
 
 double Mode::omega() const { return omega2 >= 0.0 ? std::sqrt(omega2) : -std::sqrt(-omega2); }
@@ -83,9 +85,18 @@ std::vector<EnergyShare> energyShares(const Assembler& as, const State& s, const
 
 }  // namespace
 
+void requireModesMemory(int n) {
+  // K, Kc, M, the null-space basis N, the reduced and condensed matrices and the eigenvectors:
+  // about eight dense n x n matrices at their peak.
+  requireMemory(doubles(8.0 * n * n), "modes: the dense eigenproblem of n = " + std::to_string(n) + " coordinates",
+                "coarsen the mesh (the bodies' size key) or use fewer segments");
+}
+
 void requireIndependentConstraints(const Assembler& as, const VecX& q, const VecX& p) {
   const int m = as.m();
   if (m == 0) return;
+  requireMemory(doubles(2.0 * m * as.n()), "the rank check of Phi_q (" + std::to_string(m) + " x " +
+                std::to_string(as.n()) + ", dense)", "coarsen the mesh (the bodies' size key) or use fewer segments");
   const MatX J = as.phiQDense(q, p);
   Eigen::ColPivHouseholderQR<MatX> qr(J.transpose());  // pivots pick independent rows of J
   qr.setThreshold(1e-10);  // pivots below 1e-10 of the largest count as zero
@@ -111,6 +122,7 @@ MatX tangentStiffness(const Assembler& as, const State& s, const VecX& p) {
 ModalAnalysis analyzeModes(const Assembler& as, const State& s, const VecX& p, int count) {
   const Model& model = as.model();
   const int n = as.n(), m = as.m();
+  requireModesMemory(n);
   requireIndependentConstraints(as, s.q, p);
   ModalAnalysis a;
   a.n = n;
@@ -140,6 +152,11 @@ ModalAnalysis analyzeModes(const Assembler& as, const State& s, const VecX& p, i
     N = MatX::Identity(n, n);
   }
   a.tangent = static_cast<int>(N.cols());
+  if (a.tangent == 0) {
+    a.noModes = "no dynamic direction: the " + std::to_string(m) + " constraint equations fix all " +
+                std::to_string(n) + " coordinates (d = n - m = 0), so nothing can vibrate";
+    return a;
+  }
   const MatX Kr = N.transpose() * K * N, Mr = N.transpose() * M * N;
 
   // Split the tangent space into directions with mass (A) and massless ones (B).
@@ -170,6 +187,11 @@ ModalAnalysis analyzeModes(const Assembler& as, const State& s, const VecX& p, i
     condense = -kb.eigenvectors() * kb.eigenvalues().cwiseInverse().asDiagonal() *
                kb.eigenvectors().transpose() * Kba;
     Kt += Kba.transpose() * condense;  // Kaa - Kab Kbb^-1 Kba
+  }
+  if (na == 0) {  // every massless direction is restrained (checked above): a static structure
+    a.noModes = "every one of the " + std::to_string(nb) + " free directions is massless (no element with mass moves "
+                "them): the model is in static equilibrium at every instant and has no vibration modes";
+    return a;
   }
   Kt = 0.5 * (Kt + Kt.transpose());
   Eigen::SelfAdjointEigenSolver<MatX> es(Kt);
@@ -265,6 +287,10 @@ std::string modesReport(const ModalAnalysis& a, int count) {
      << " modes: " << rigid << " rigid-body (zero to round-off)";
   if (unstable) os << ", " << unstable << " unstable (omega^2 < 0, printed as negative omega)";
   os << "\n";
+  if (!a.noModes.empty()) {
+    os << "no modes: " << a.noModes << "\n";
+    return os.str();
+  }
   std::vector<int> low, high;
   listed(a, count, low, high);
   auto table = [&](const char* title, const std::vector<int>& idx) {
@@ -322,7 +348,9 @@ std::string modesJson(const ModalAnalysis& a, int count) {
   }
   os << "{\n  \"n\": " << a.n << ", \"m\": " << a.m << ", \"tangent\": " << a.tangent
      << ", \"massless_directions\": " << a.massless << ", \"rigid_modes\": " << rigid
-     << ", \"asymmetry\": " << a.asymmetry << ",\n  \"omega_max\": " << wMax
+     << ", \"asymmetry\": " << a.asymmetry << ",\n";
+  if (!a.noModes.empty()) os << "  \"no_modes\": \"" << a.noModes << "\",\n";
+  os << "  \"omega_max\": " << wMax
      << ", \"maggi_rk4_dt_max\": " << (wMax > 0 ? kRk4StabilityLimit / wMax : 0.0) << ",\n";
   auto list = [&](const char* key, const std::vector<int>& idx, bool last) {
     os << "  \"" << key << "\": [";

@@ -45,6 +45,7 @@ struct ModalAnalysis {
   int massless = 0;          ///< condensed (massless) directions of the tangent space
   double asymmetry = 0.0;    ///< |K - K^T|_F / |K|_F
   std::vector<Mode> modes;   ///< ascending omega2; energies filled for the ones asked for
+  std::string noModes;       ///< why there are none (d = 0, or every direction massless); else empty
 };
 
 /// K = -dQ/dq + sum_i lambda_i Phi_i,qq at s.q, s.v, s.lambda (dense, not symmetrized) [N/m].
@@ -54,6 +55,10 @@ MatX tangentStiffness(const Assembler& as, const State& s, const VecX& p);
 /// lowest elastic and `count` highest modes. Throws NumericalError when Phi_q is rank
 /// deficient (naming the dependent constraint rows) or a massless direction has no stiffness.
 ModalAnalysis analyzeModes(const Assembler& as, const State& s, const VecX& p, int count = 5);
+
+/// InputError (core/MemoryBudget.hpp) when the dense eigenproblem of n coordinates would
+/// exceed the memory budget; analyzeModes calls it first, `flexsens modes` before anything.
+void requireModesMemory(int n);
 
 /// Rank check of Phi_q at q: throws NumericalError naming the redundant constraint rows.
 void requireIndependentConstraints(const Assembler& as, const VecX& q, const VecX& p);

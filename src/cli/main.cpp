@@ -15,10 +15,12 @@
 #include "app/StaticRun.hpp"
 #include "app/Study.hpp"
 #include "core/Interrupt.hpp"
+#include "core/MemoryBudget.hpp"
 #include "core/RedundantRows.hpp"
 #include "core/Types.hpp"
 #include "integrators/InitialState.hpp"
 #include "output/RunDirectory.hpp"
+#include "scene/InputFiles.hpp"
 
 using namespace flexsens;
 
@@ -107,6 +109,18 @@ int main(int argc, char** argv) {
   modes->add_option("--count", modesCount, "modes listed at each end of the spectrum (default 5)")->check(CLI::Range(1, 1000));
   modes->add_flag("--json", modesAsJson, "print JSON instead of the text report");
 
+  // Reach and size of what a scene may make flexsens read or allocate (scene/InputFiles.hpp,
+  // core/MemoryBudget.hpp), the same on every command that reads a scene.
+  std::vector<std::string> allowPaths;
+  double maxMemoryGiB = 0;
+  for (CLI::App* sub : {run, statik, check, modes}) {
+    sub->add_option("--allow-path", allowPaths, "a folder (and below) whose files the scene may name besides its own "
+                                                "folder: meshes, geometry, tables (repeatable)");
+    sub->add_option("--max-memory", maxMemoryGiB, "memory budget [GiB] for one large structure (dense matrices of "
+                                                  "modes and PIM cases, geometry nodes); default 4")
+        ->check(CLI::Range(0.001, 1.0e6));
+  }
+
   StudyOptions study;
   auto* studyCmd = app.add_subcommand("study", "speed-versus-accuracy study of the sensitivity methods and integrators (markdown report + CSV)");
   studyCmd->add_option("--out", study.outDir, "report directory (default bench/study)");
@@ -119,6 +133,8 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 1;  // --help is success; any bad option is input error 1
   }
   try {
+    for (const auto& dir : allowPaths) allowInputDirectory(dir);
+    if (maxMemoryGiB > 0) setMemoryBudget(maxMemoryGiB * (1ull << 30));
     if (*studyCmd) {
       const std::string report = runStudy(study);  // first: a failed study prints no "written"
       std::cout << "study report written to " << report << "\n";
@@ -157,6 +173,7 @@ int main(int argc, char** argv) {
       // the scene reads fine and the defect is one of the configuration, not of a file line.
       Scene sc = readScene(modesPath);
       sc.requireDynamics();
+      requireModesMemory(sc.model->n);
       Assembler as(*sc.model);
       const VecX p = sc.model->nominalParameters();
       if (!sc.model->redundantRows.empty()) {  // left out by the reader; the modes are those of the rest

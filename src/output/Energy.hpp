@@ -21,7 +21,11 @@ struct Energy {
 class EnergyMeter {
  public:
   /// M(p) is assembled once: masses do not depend on q.
-  EnergyMeter(const Assembler& as, const VecX& p) : as_(as), p_(p), M_(as.mass(p)) {}
+  EnergyMeter(const Assembler& as, const VecX& p) : as_(as), p_(p), M_(as.mass(p)) {
+    for (Eigen::Index i = 0; i < M_.rows(); ++i) massTrace_ += M_.coeff(i, i);
+  }
+  /// Sum of the mass matrix's diagonal [kg] (point masses: dimension x the total mass).
+  double massTrace() const { return massTrace_; }
   Energy at(const VecX& q, const VecX& v) const {
     return {0.5 * v.dot(M_ * v), as_.potentialEnergy(q, p_)};
   }
@@ -39,7 +43,9 @@ class EnergyMeter {
       const int kk = static_cast<int>(k);
       const double dT = x.v.dot(M_ * dp[k].v) + 0.5 * x.v.dot(as_.massParamDerivativeTimes(p_, kk, x.v));
       VecX pp = p_, pm = p_;
-      const double h = 1e-4 * (p_[kk] != 0.0 ? std::abs(p_[kk]) : 1.0);
+      // Relative step, absolute (1e-4 of the unit) at or near p = 0: 1e-4 |p| of a subnormal
+      // p (5e-324) is 0, and (V - V) / 0 was the NaN in denergy_J/d<p>.
+      const double h = 1e-4 * (std::abs(p_[kk]) >= 1e-150 ? std::abs(p_[kk]) : 1.0);
       pp[kk] += h;
       pm[kk] -= h;
       const double dVdp = (as_.potentialEnergy(x.q, pp) - as_.potentialEnergy(x.q, pm)) / (2 * h);
@@ -64,6 +70,7 @@ class EnergyMeter {
   const Assembler& as_;
   VecX p_;
   SpMat M_;
+  double massTrace_ = 0.0;
 };
 
 }  // namespace flexsens

@@ -130,6 +130,7 @@ void ResultWriter::frame(const StateWithSens& s) {
     lastRow_.insert(lastRow_.end(), {e.kinetic, e.potential, e.total()});
     for (const double d : energy_->sensitivities(s.x, s.dp)) lastRow_.push_back(d);
   }
+  requireFiniteRow();
   errno = 0;
   for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
   csv_ << "\n";
@@ -153,6 +154,21 @@ VecX ResultWriter::gatherNodes(const std::vector<int>& nodes, const VecX& q, boo
       x[m.dim * a + c] = d >= 0 ? q[d] : (derivative ? 0.0 : m.nodes[nodes[a]].position[c]);
     }
   return x;
+}
+
+void ResultWriter::requireFiniteRow() const {
+  for (size_t i = 0; i < lastRow_.size(); ++i) {
+    if (std::isfinite(lastRow_[i])) continue;
+    const std::string col = i < columns_.size() ? columns_[i] : "number " + std::to_string(i + 1);
+    const bool derivative = col.rfind("d", 0) == 0 && col.find("/d") != std::string::npos;
+    std::ostringstream os;
+    os << "series.csv column '" << col << "' would hold " << lastRow_[i] << " at " << columns_.front() << " = "
+       << lastRow_.front() << " (frame " << times_.size() << "); nothing was written for it. "
+       << (derivative ? "A parameter derivative: check the parameter's nominal value (0 or near it where the "
+                        "derivative is undefined), or compare with --method nd"
+                      : "Try a smaller dt, another integrator (--integrator idas), or check the scene's values");
+    throw NumericalError(os.str());
+  }
 }
 
 void ResultWriter::fail(const std::string& name, int err) const {

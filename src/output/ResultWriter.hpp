@@ -47,6 +47,9 @@ class ResultWriter : public Observer {
   /// Drivers (constraint index, first multiplier row): their reactions are columns.
   std::vector<std::pair<size_t, int>> drivers_;
   [[noreturn]] void fail(const std::string& name, int err) const;
+  /// NumericalError naming the column, the time and a remedy if lastRow_ holds a NaN or inf:
+  /// no non-finite number reaches series.csv (and through it summary.json) of any run.
+  void requireFiniteRow() const;
   const Scene& scene_;
   const EnergyMeter* energy_;
   std::string dir_, stem_, shownDir_;

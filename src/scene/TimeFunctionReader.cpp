@@ -1,22 +1,19 @@
 #include "scene/TimeFunctionReader.hpp"
 
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
+#include <cmath>
 #include <sstream>
+
+#include "scene/InputFiles.hpp"
 
 namespace flexsens {
 
 namespace {
 
-/// Reads a CSV of (t, f) rows. Errors name file:line and what was expected (thrown as the
-/// text of an InputError that the caller prefixes with the scene's key).
-void readTable(const std::string& file, const std::string& shown, std::vector<double>& t,
-               std::vector<double>& f) {
-  errno = 0;
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("cannot open '" + shown + "': " + std::strerror(errno ? errno : ENOENT));
+/// Parses a CSV of (t, f) rows. Errors name file:line and what was expected (thrown as the
+/// text of an InputError that the caller prefixes with the scene's key), never the line's
+/// text: the file may be one the user did not mean to share.
+void parseTable(const std::string& text, const std::string& shown, std::vector<double>& t, std::vector<double>& f) {
+  std::istringstream in(text);
   std::string line;
   int lineNo = 0;
   bool headerAllowed = true;
@@ -36,10 +33,10 @@ void readTable(const std::string& file, const std::string& shown, std::vector<do
         headerAllowed = false;
         continue;
       }
-      throw std::runtime_error(where + "expected two numbers 't, f' (time [s], value), got '" + line + "'");
+      throw std::runtime_error(where + "expected two numbers 't, f' (time [s], value) separated by a comma, "
+                               "semicolon, tab or spaces");
     }
-    if (is >> extra)
-      throw std::runtime_error(where + "expected two numbers 't, f', got more columns ('" + extra + "')");
+    if (is >> extra) throw std::runtime_error(where + "expected two numbers 't, f', got a third column");
     if (!std::isfinite(a) || !std::isfinite(b)) throw std::runtime_error(where + "expected finite numbers");
     if (!t.empty() && !(a > t.back())) {
       std::ostringstream os;
@@ -91,11 +88,11 @@ std::unique_ptr<TimeFunction> readTimeFunction(SceneContext& ctx, const YAML::No
   } else if (type == "table") {
     r.allowKeys(fn, path, {"type", "file", "scale"});
     const std::string name = r.text(r.require(fn, "file", path), path + ".file");
-    namespace fs = std::filesystem;
-    const fs::path full = fs::path(name).is_absolute() ? fs::path(name) : fs::path(r.file()).parent_path() / name;
+    const std::uintmax_t limit = inputPolicy().maxTableBytes;
+    const std::string full = sceneDataFile(r, fn["file"], path + ".file", name, limit);
     std::vector<double> t, v;
     try {
-      readTable(full.string(), name, t, v);
+      parseTable(readBoundedFile(full, limit, name), name, t, v);
     } catch (const std::runtime_error& e) {
       r.fail(fn["file"], path + ".file", e.what());
     }

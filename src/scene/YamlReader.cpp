@@ -55,6 +55,21 @@ double YamlReader::number(const YAML::Node& node, const std::string& path) const
     fail(node, path, "expected a number, got '" + (node.IsScalar() ? node.Scalar() : std::string("a ") +
                                                        (node.IsMap() ? "mapping" : "list")) + "'");
   if (!std::isfinite(v)) fail(node, path, "expected a finite number, got '" + node.Scalar() + "'");
+  // A subnormal (0 < |v| < 2.2e-308) is no physical quantity; it keeps only a few bits, and
+  // scaling it by a relative step or a small factor gives 0 (then 0/0 in a derivative).
+  if (v != 0 && !std::isnormal(v))
+    fail(node, path, "expected 0 or a number of magnitude at least 2.2e-308 (a normal double), got " + node.Scalar());
+  return v;
+}
+
+double YamlReader::physical(const YAML::Node& node, const std::string& path, const PhysicalRange& range) const {
+  const double v = number(node, path);
+  if (!(v >= range.low && v <= range.high)) {
+    std::ostringstream os;
+    os << "expected " << range.what << " between " << range.low << " and " << range.high << " " << range.unit
+       << ", got " << node.Scalar();
+    fail(node, path, os.str());
+  }
   return v;
 }
 
