@@ -92,6 +92,9 @@ GEO_ATTACKS = [
     ('fz[] = {{1:1e10}};', {"gmsh_cpu_s": 2, "gmsh_memory_mb": 256}),
     ('Mesh.MeshSizeMax = 1e-5;\nMesh 2;', {"gmsh_cpu_s": 1, "gmsh_memory_mb": 256}),
 ]
+# Attacks that act on the geometry already defined: at the top of a file they mesh nothing and
+# the scene's own size then wins, a harmless file; they go at its end.
+AFTER_GEOMETRY = {"Mesh 2;"}
 GEO_KEY = re.compile(r"(\b(?:gmsh|mesh):\s*)(/[^\s,}#]+\.geo)\b")
 
 
@@ -102,6 +105,8 @@ def geo_mutant(rng, scenes, work):
     cmd, limits = rng.choice(GEO_ATTACKS)
     lines = open(m.group(2)).read().split("\n")
     at = rng.choice([0, len(lines)])
+    if any(a in cmd for a in AFTER_GEOMETRY):
+        at = len(lines)
     lines.insert(at, cmd.format(marker=os.path.join(work, "marker_geo")))
     mtext = text[: m.start(2)] + "attack.geo" + text[m.end(2):]
     if limits:
