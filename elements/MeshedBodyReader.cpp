@@ -29,13 +29,15 @@ BodyMesh readBodyMesh(SceneContext& ctx, const YAML::Node& el, const std::string
   return meshBody(req, ctx.where(meshKey, path + ".mesh"));
 }
 
-std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
-                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
-                              std::vector<MeshNodeGroup>* clamp) {
+namespace {
+
+/// The mesh's nodes as scene nodes (named by their Physical Point, else <name>.<gmsh tag>); a
+/// node of an existing name must sit where that node is. Returns the scene index of each.
+std::vector<int> createMeshNodes(SceneContext& ctx, const std::string& path, const std::string& name,
+                                 const BodyMesh& mesh, const YAML::Node& meshKey) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   const int d = m.dim;
-  // --- nodes ----------------------------------------------------------------------------
   std::map<int, std::string> pointName;
   for (const auto& [pn, i] : mesh.points) pointName[i] = pn;
   std::vector<int> ids(mesh.positions.size());
@@ -65,18 +67,32 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
     ctx.addNode(nd);
     ids[i] = ctx.nodeIndex(nn);
   }
-  // --- ground -----------------------------------------------------------------------------
+  return ids;
+}
+
+/// The mesh nodes of a Physical Point or node group g (InputError listing the available ones).
+std::vector<int> meshGroupNodes(const YamlReader& r, const BodyMesh& mesh, const std::string& group,
+                                const YAML::Node& at, const std::string& key, const std::string& g) {
+  if (mesh.points.count(g)) return std::vector<int>{mesh.points.at(g)};
+  auto it = mesh.groups.find(g);
+  if (it == mesh.groups.end()) {
+    std::string avail;
+    for (const auto& [pn, i] : mesh.points) avail += (avail.empty() ? "" : ", ") + pn;
+    for (const auto& [gn, ns] : mesh.groups) avail += (avail.empty() ? "" : ", ") + gn;
+    r.fail(at, key, "no Physical Point or node group '" + g + "' on the mesh of " + group + "; available: " +
+                        (avail.empty() ? "(none)" : avail));
+  }
+  return it->second;
+}
+
+/// ground: and clamp: groups fixed (clamp only where the element takes it: clamp != nullptr).
+void fixMeshGroups(SceneContext& ctx, const YAML::Node& el, const std::string& path, const BodyMesh& mesh,
+                   const std::string& group, const std::vector<int>& ids, std::vector<MeshNodeGroup>* clamp) {
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  const int d = m.dim;
   auto groupNodes = [&](const YAML::Node& at, const std::string& key, const std::string& g) {
-    if (mesh.points.count(g)) return std::vector<int>{mesh.points.at(g)};
-    auto it = mesh.groups.find(g);
-    if (it == mesh.groups.end()) {
-      std::string avail;
-      for (const auto& [pn, i] : mesh.points) avail += (avail.empty() ? "" : ", ") + pn;
-      for (const auto& [gn, ns] : mesh.groups) avail += (avail.empty() ? "" : ", ") + gn;
-      r.fail(at, key, "no Physical Point or node group '" + g + "' on the mesh of " + group + "; available: " +
-                          (avail.empty() ? "(none)" : avail));
-    }
-    return it->second;
+    return meshGroupNodes(r, mesh, group, at, key, g);
   };
   for (const char* fixKey : {"ground", "clamp"}) {
     const bool isClamp = std::string(fixKey) == "clamp";
@@ -93,65 +109,90 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
       if (isClamp) clamp->push_back({gl[k], key, g, nodes});
     }
   }
-  // --- attach: groups welded to a rigid body read before this element -----------------------
-  // Each node keeps its coordinates in the body's frame: r_i = r_A + sum_j c_j (r_Bj - r_A) for
-  // a rigid_body (basic points A, B, C, D), r_i = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A) for
-  // a planar_rigid_body (A, B): linear constraints (pim/Rigidization.hpp), as the bodies' own
-  // attached points.
-  if (el["attach"]) {
-    const YAML::Node al = el["attach"];
-    r.requireList(al, path + ".attach");
-    for (size_t k = 0; k < al.size(); ++k) {
-      const std::string key = at(path + ".attach", k);
-      r.allowKeys(al[k], key, {"group", "body"});
-      const std::string g = r.text(r.require(al[k], "group", key), key + ".group");
-      const std::string b = r.text(r.require(al[k], "body", key), key + ".body");
-      const std::vector<int> nodes = groupNodes(al[k]["group"], key + ".group", g);
-      std::vector<int> basic;
-      if (d == 3 && ctx.rigidBodies.count(b)) basic = ctx.rigidBodies.at(b).basic;
-      if (d == 2 && ctx.planarRigidBodies.count(b))
-        basic = {ctx.planarRigidBodies.at(b)[0], ctx.planarRigidBodies.at(b)[1]};
-      if (basic.empty()) {
-        std::string avail;
-        if (d == 3)
-          for (const auto& [bn, info] : ctx.rigidBodies) avail += (avail.empty() ? "" : ", ") + bn;
-        else
-          for (const auto& [bn, ab] : ctx.planarRigidBodies) avail += (avail.empty() ? "" : ", ") + bn;
-        r.fail(al[k]["body"], key + ".body", "no " + std::string(d == 3 ? "rigid_body" : "planar_rigid_body") + " '" + b +
-                                                 "' listed before this element; available: " +
-                                                 (avail.empty() ? "(none)" : avail));
-      }
-      MatX X0(d, basic.size());
-      for (size_t j = 0; j < basic.size(); ++j) X0.col(j) = m.nodes[basic[j]].position;
-      for (int i : nodes) {
-        const int id = ids[i];
-        if (std::find(basic.begin(), basic.end(), id) != basic.end()) continue;  // a basic point itself
-        if (m.nodes[id].ground)
-          r.fail(al[k]["group"], key + ".group", "node '" + m.nodes[id].name + "' of group '" + g +
-                                                     "' is fixed (ground or clamp) and cannot also be attached to '" + b +
-                                                     "'; attach the group or fix it, not both");
-        const VecX x = m.nodes[id].position;
-        std::vector<int> cn = basic;
-        cn.push_back(id);
-        const std::string cname = name + ".attach(" + m.nodes[id].name + ")";
-        if (d == 3) {
-          const Eigen::Matrix3d B = X0.rightCols(3).colwise() - X0.col(0);
-          const VecX c = B.inverse() * (x - X0.col(0));
-          m.constraints.push_back(std::make_unique<AttachedPointConstraint>(cname, cn, c, 3));
-          ctx.rigidBodies.at(b).members.insert(id);
-        } else {
-          const Eigen::Vector2d c = PlanarRigidBody::bodyCoordinates(X0.col(0), X0.col(1), x);
-          Eigen::Matrix2d R;
-          R << 0, -1, 1, 0;
-          MatX J(2, 6);
-          J << -(1 - c[0]) * Eigen::Matrix2d::Identity() + c[1] * R, -c[0] * Eigen::Matrix2d::Identity() - c[1] * R,
-              Eigen::Matrix2d::Identity();
-          m.constraints.push_back(std::make_unique<AttachedPointConstraint>(cname, cn, J));
-        }
-      }
+}
+
+/// The rigid body's basic nodes (3D: A, B, C, D of a rigid_body; planar: A, B of a
+/// planar_rigid_body) read before this element; InputError listing the available ones.
+std::vector<int> attachBodyBasis(SceneContext& ctx, const YAML::Node& at, const std::string& key,
+                                 const std::string& b) {
+  const int d = ctx.m.dim;
+  std::vector<int> basic;
+  if (d == 3 && ctx.rigidBodies.count(b)) basic = ctx.rigidBodies.at(b).basic;
+  if (d == 2 && ctx.planarRigidBodies.count(b))
+    basic = {ctx.planarRigidBodies.at(b)[0], ctx.planarRigidBodies.at(b)[1]};
+  if (basic.empty()) {
+    std::string avail;
+    if (d == 3)
+      for (const auto& [bn, info] : ctx.rigidBodies) avail += (avail.empty() ? "" : ", ") + bn;
+    else
+      for (const auto& [bn, ab] : ctx.planarRigidBodies) avail += (avail.empty() ? "" : ", ") + bn;
+    ctx.r.fail(at, key, "no " + std::string(d == 3 ? "rigid_body" : "planar_rigid_body") + " '" + b +
+                            "' listed before this element; available: " + (avail.empty() ? "(none)" : avail));
+  }
+  return basic;
+}
+
+/// Node `id` welded to the body of basic nodes `basic` by a linear constraint named cname.
+void attachNode(SceneContext& ctx, const std::vector<int>& basic, const MatX& X0, int id, const std::string& cname,
+                const std::string& b) {
+  Model& m = ctx.m;
+  const VecX x = m.nodes[id].position;
+  std::vector<int> cn = basic;
+  cn.push_back(id);
+  if (m.dim == 3) {
+    const Eigen::Matrix3d B = X0.rightCols(3).colwise() - X0.col(0);
+    const VecX c = B.inverse() * (x - X0.col(0));
+    m.constraints.push_back(std::make_unique<AttachedPointConstraint>(cname, cn, c, 3));
+    ctx.rigidBodies.at(b).members.insert(id);
+  } else {
+    const Eigen::Vector2d c = PlanarRigidBody::bodyCoordinates(X0.col(0), X0.col(1), x);
+    Eigen::Matrix2d R;
+    R << 0, -1, 1, 0;
+    MatX J(2, 6);
+    J << -(1 - c[0]) * Eigen::Matrix2d::Identity() + c[1] * R, -c[0] * Eigen::Matrix2d::Identity() - c[1] * R,
+        Eigen::Matrix2d::Identity();
+    m.constraints.push_back(std::make_unique<AttachedPointConstraint>(cname, cn, J));
+  }
+}
+
+// --- attach: groups welded to a rigid body read before this element -----------------------
+// Each node keeps its coordinates in the body's frame: r_i = r_A + sum_j c_j (r_Bj - r_A) for
+// a rigid_body (basic points A, B, C, D), r_i = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A) for
+// a planar_rigid_body (A, B): linear constraints (pim/Rigidization.hpp), as the bodies' own
+// attached points.
+void attachMeshGroups(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
+                      const BodyMesh& mesh, const std::string& group, const std::vector<int>& ids) {
+  if (!el["attach"]) return;
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  const YAML::Node al = el["attach"];
+  r.requireList(al, path + ".attach");
+  for (size_t k = 0; k < al.size(); ++k) {
+    const std::string key = at(path + ".attach", k);
+    r.allowKeys(al[k], key, {"group", "body"});
+    const std::string g = r.text(r.require(al[k], "group", key), key + ".group");
+    const std::string b = r.text(r.require(al[k], "body", key), key + ".body");
+    const std::vector<int> nodes = meshGroupNodes(r, mesh, group, al[k]["group"], key + ".group", g);
+    const std::vector<int> basic = attachBodyBasis(ctx, al[k]["body"], key + ".body", b);
+    MatX X0(m.dim, basic.size());
+    for (size_t j = 0; j < basic.size(); ++j) X0.col(j) = m.nodes[basic[j]].position;
+    for (int i : nodes) {
+      const int id = ids[i];
+      if (std::find(basic.begin(), basic.end(), id) != basic.end()) continue;  // a basic point itself
+      if (m.nodes[id].ground)
+        r.fail(al[k]["group"], key + ".group", "node '" + m.nodes[id].name + "' of group '" + g +
+                                                   "' is fixed (ground or clamp) and cannot also be attached to '" + b +
+                                                   "'; attach the group or fix it, not both");
+      attachNode(ctx, basic, X0, id, name + ".attach(" + m.nodes[id].name + ")", b);
     }
   }
-  // --- initial velocity: v_i = velocity + omega x (x_i - center) ----------------------------
+}
+
+/// Initial velocity: v_i = velocity + omega x (x_i - center) on the nodes not fixed.
+void setMeshVelocities(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::vector<int>& ids) {
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  const int d = m.dim;
   if (el["velocity"] || el["angular_velocity"]) {
     if (el["center"] && !el["angular_velocity"])
       r.fail(el["center"], path + ".center", "center is the point angular_velocity turns about: give angular_velocity");
@@ -178,6 +219,17 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
       }
     }
   }
+}
+
+}  // namespace
+
+std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
+                              const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
+                              std::vector<MeshNodeGroup>* clamp) {
+  const std::vector<int> ids = createMeshNodes(ctx, path, name, mesh, meshKey);
+  fixMeshGroups(ctx, el, path, mesh, group, ids, clamp);
+  attachMeshGroups(ctx, el, path, name, mesh, group, ids);
+  setMeshVelocities(ctx, el, path, ids);
   return ids;
 }
 

@@ -231,53 +231,45 @@ PimReport pimCounts(const Assembler& as, const PimCase& c, const VecX& q, const 
   return r;
 }
 
-StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State& s,
-                              const VecX& p, PimReport& rep) {
-  const Model& m = as.model();
-  const Assembler lam(m, &c.lambda, as.derivatives());
-  requirePimMemory(as, lam, c);
-  rep.n = m.n;
-  rep.m = as.m();
-  rep.d = m.n - as.m();
-  rep.lambdaGenerated = lam.m();
-  rep.ds = static_cast<int>(c.sdofs.size());
-  if (lam.m()) {
-    const VecX L = lam.phi(s.q, p);
-    int worst;
-    const double err = L.cwiseAbs().maxCoeff(&worst);
-    if (err > 1e-8) {
-      std::ostringstream os;
-      os << c.file << ": case '" << c.name << "': a rigidized body is not undeformed at t = 0 ("
-         << lam.rowLabel(worst) << " = " << err << "); the PIM rigidizes only initially "
-         << "undeformed bodies: remove it from 'rigidize' or start it undeformed";
-      throw InputError(os.str());
-    }
+namespace {
+
+/// The rigidized bodies must be undeformed at t = 0 (InputError naming the worst row).
+void requireUndeformed(const Assembler& lam, const PimCase& c, const VecX& q, const VecX& p) {
+  if (!lam.m()) return;
+  const VecX L = lam.phi(q, p);
+  int worst;
+  const double err = L.cwiseAbs().maxCoeff(&worst);
+  if (err > 1e-8) {
+    std::ostringstream os;
+    os << c.file << ": case '" << c.name << "': a rigidized body is not undeformed at t = 0 ("
+       << lam.rowLabel(worst) << " = " << err << "); the PIM rigidizes only initially "
+       << "undeformed bodies: remove it from 'rigidize' or start it undeformed";
+    throw InputError(os.str());
   }
-  const LambdaSelection sel = selectRigidizationRows(as, lam, s.q, p);
-  rep.mr = static_cast<int>(sel.kept.size());
-  rep.lambdaDropped = static_cast<int>(sel.dropped.size());
-  MasslessRows ml(as, s.q, p);
-  rep.massless = static_cast<int>(ml.mc.size());
-  rep.me = ml.e();
-  checkCount(as, lam, sel, ml, c);
-  if (!ml.mc.empty()) {
-    // The PIM linearizes the equilibrium of the massless coordinates at the start: it must hold
-    // there (consistentState calls equilibrateMassless), in the directions N at least.
-    const VecX lambda = s.lambda.size() == as.m() ? s.lambda : VecX::Zero(as.m());
-    ml.load(as, s.q, s.v, lambda, p);
-    const double err = (ml.N.transpose() * ml.residual(as, s.q, s.v, lambda, p)).lpNorm<Eigen::Infinity>() / ml.kappa;
-    if (!(err <= 1e-8 * (1.0 + s.q.lpNorm<Eigen::Infinity>()))) {
-      std::ostringstream os;
-      os << "case '" << c.name << "': the massless coordinates are not in equilibrium at the start (|N^T F_m| / k = "
-         << err << " m); the PIM linearizes their equilibrium there (equilibrateMassless first)";
-      throw NumericalError(os.str());
-    }
+}
+
+/// The PIM linearizes the equilibrium of the massless coordinates at the start: it must hold
+/// there (consistentState calls equilibrateMassless), in the directions N at least. Loads ml.
+void requireMasslessEquilibrium(const Assembler& as, MasslessRows& ml, const PimCase& c, const State& s,
+                                const VecX& p) {
+  const VecX lambda = s.lambda.size() == as.m() ? s.lambda : VecX::Zero(as.m());
+  ml.load(as, s.q, s.v, lambda, p);
+  const double err = (ml.N.transpose() * ml.residual(as, s.q, s.v, lambda, p)).lpNorm<Eigen::Infinity>() / ml.kappa;
+  if (!(err <= 1e-8 * (1.0 + s.q.lpNorm<Eigen::Infinity>()))) {
+    std::ostringstream os;
+    os << "case '" << c.name << "': the massless coordinates are not in equilibrium at the start (|N^T F_m| / k = "
+       << err << " m); the PIM linearizes their equilibrium there (equilibrateMassless first)";
+    throw NumericalError(os.str());
   }
-  std::vector<std::string> labels;
-  const MatX A = pimMatrix(as, lam, sel.kept, c, ml, s.q, p, &labels);
+}
+
+/// The 2-norm condition number of the PIM matrix A; NumericalError naming the dependent rows
+/// when it is rank-deficient, or when it is near-singular (condition above 1e10).
+double checkedCondition(const MatX& A, const std::vector<std::string>& labels, const MasslessRows& ml,
+                        const PimCase& c) {
   const Eigen::BDCSVD<MatX> svd(A, Eigen::ComputeFullU);
   const VecX sv = svd.singularValues();
-  rep.condition = sv[0] / sv[sv.size() - 1];
+  const double condition = sv[0] / sv[sv.size() - 1];
   if (!(sv[sv.size() - 1] > 1e-12 * sv[0])) {
     // Rows taking part in the dependency: large entries of the left null vector.
     const VecX u = svd.matrixU().col(sv.size() - 1);
@@ -291,12 +283,39 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
     os << ". Choose SDOFs that are independent of each other and of the constraints";
     throw NumericalError(os.str());
   }
-  if (rep.condition > 1e10) {
+  if (condition > 1e10) {
     std::ostringstream os;
     os << "case '" << c.name << "': the PIM matrix A is near-singular (condition estimate "
-       << rep.condition << "); the SDOFs almost depend on each other or on the constraints";
+       << condition << "); the SDOFs almost depend on each other or on the constraints";
     throw NumericalError(os.str());
   }
+  return condition;
+}
+
+}  // namespace
+
+StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State& s,
+                              const VecX& p, PimReport& rep) {
+  const Model& m = as.model();
+  const Assembler lam(m, &c.lambda, as.derivatives());
+  requirePimMemory(as, lam, c);
+  rep.n = m.n;
+  rep.m = as.m();
+  rep.d = m.n - as.m();
+  rep.lambdaGenerated = lam.m();
+  rep.ds = static_cast<int>(c.sdofs.size());
+  requireUndeformed(lam, c, s.q, p);
+  const LambdaSelection sel = selectRigidizationRows(as, lam, s.q, p);
+  rep.mr = static_cast<int>(sel.kept.size());
+  rep.lambdaDropped = static_cast<int>(sel.dropped.size());
+  MasslessRows ml(as, s.q, p);
+  rep.massless = static_cast<int>(ml.mc.size());
+  rep.me = ml.e();
+  checkCount(as, lam, sel, ml, c);
+  if (!ml.mc.empty()) requireMasslessEquilibrium(as, ml, c, s, p);
+  std::vector<std::string> labels;
+  const MatX A = pimMatrix(as, lam, sel.kept, c, ml, s.q, p, &labels);
+  rep.condition = checkedCondition(A, labels, ml, c);
   const Eigen::PartialPivLU<MatX> lu(A);
   const int np = static_cast<int>(p.size());
   const int mr = rep.mr, e = rep.me;

@@ -235,100 +235,111 @@ std::string sci(double v) {
 
 std::string shortFailure(const std::string& f) { return "stopped: " + f.substr(0, 120); }
 
-}  // namespace
+/// What the sections share: the options, the mechanisms, the report and the files.
+struct StudyRun {
+  explicit StudyRun(const StudyOptions& options);
+  void progress(const std::string& what) const {
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    std::cerr << "flexsens study [" << fmt(secs, 4) << " s]: " << what << "\n";
+  }
+  std::vector<const Mechanism*> all() const { return {&rigid, &flexible, &fourBar, &pendulum}; }
 
-std::string runStudy(const StudyOptions& opt) {
-  // Locked and checked before minutes of computing; staged, every write checked, moved into
-  // place at the end (output/RunDirectory.hpp).
-  RunDirectory dir(opt.outDir, "study");
-  std::vector<std::pair<std::string, std::string>> files;  // name, text
-  const std::string& src = opt.sourceDir;
-  const int reps = opt.quick ? 1 : 5;
-  const double seedT = opt.quick ? 1.0 : 5.0;  // seed mechanisms: error over time, work-precision
-  const double costT = opt.quick ? 1.0 : 2.0;  // seed mechanisms: cost tables (ratios per step; ad is slow)
-  const auto wall0 = std::chrono::steady_clock::now();
-  const auto cpu0 = std::clock();
-  std::ostringstream md;
-  auto progress = [&](const std::string& what) {
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    std::cerr << "flexsens study [" << fmt(s, 4) << " s]: " << what << "\n";
-  };
+  const StudyOptions& opt;
+  const int reps;       ///< repetitions of a timed run (best of)
+  const double seedT;   ///< seed mechanisms: error over time, work-precision [s]
+  const double costT;   ///< seed mechanisms: cost tables (ratios per step; ad is slow) [s]
+  const std::chrono::steady_clock::time_point wall0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
+  Mechanism rigid, flexible, fourBar, pendulum;
+  std::ostringstream md;                                   ///< the report
+  std::vector<std::pair<std::string, std::string>> files;  ///< name, text
+};
 
-  // The mechanisms. Five-bar: the PIM paper's cases R1 / F1, output z2 [m], 2 s. Seed 000:
-  // the 3D four-bar (output the joint-4 angle z4 [rad]) and double pendulum (joint-2 angle z2),
-  // parameters m, Ix of bar 1, c, k of joint 1, 5 s, both with the trapezoidal rule and with
-  // the seed's own scheme (coordinate partitioning, RK4 at 10 ms).
+// The mechanisms. Five-bar: the PIM paper's cases R1 / F1, output z2 [m], 2 s. Seed 000:
+// the 3D four-bar (output the joint-4 angle z4 [rad]) and double pendulum (joint-2 angle z2),
+// parameters m, Ix of bar 1, c, k of joint 1, 5 s, both with the trapezoidal rule and with
+// the seed's own scheme (coordinate partitioning, RK4 at 10 ms).
+StudyRun::StudyRun(const StudyOptions& options)
+    : opt(options), reps(opt.quick ? 1 : 5), seedT(opt.quick ? 1.0 : 5.0), costT(opt.quick ? 1.0 : 2.0) {
+  const std::string src = opt.sourceDir;
   const std::vector<std::string> fiveBarMethods = {"dd", "ad", "nd", "nd-forward"};
   const std::vector<std::string> seedMethods = {"dd", "ad", "nd-forward"};
   const std::vector<CostSetup> seedCost = {{"trapezoidal", 1e-3, seedMethods}, {"maggi_rk4", 1e-2, seedMethods}};
-  const Mechanism rigid{"rigid", "rigid five-bar (R1)", "R1", "z2", {"L_A1", "m_12", "m_23", "g_z"},
-                        [&](int k) { return rigidScene(src, k); }, 2.0, opt.quick ? 0.5 : 2.0, 1.0,
-                        {{"trapezoidal", 1e-3, fiveBarMethods}}};
-  const Mechanism flexible{"flexible", "flexible five-bar (F1)", "F1", "z2", {"L_A1", "L_B1", "E", "g_z"},
-                           [&](int k) { return flexScene(src, k, 2); }, 2.0, opt.quick ? 0.5 : 2.0, 1.0,
-                           {{"trapezoidal", 1e-3, fiveBarMethods}}};
-  const Mechanism fourBar{"four_bar", "3D four-bar (seed 000)", "", "z4", {"m", "Ix", "c", "k"},
-                          [&](int k) { return seedScene(src, "four_bar.yaml", k); }, costT, seedT, seedT, seedCost};
-  const Mechanism pendulum{"double_pendulum", "3D double pendulum (seed 000)", "", "z2", {"m", "Ix", "c", "k"},
-                           [&](int k) { return seedScene(src, "double_pendulum.yaml", k); }, costT, seedT, seedT, seedCost};
-  const std::vector<const Mechanism*> all = {&rigid, &flexible, &fourBar, &pendulum};
+  rigid = {"rigid", "rigid five-bar (R1)", "R1", "z2", {"L_A1", "m_12", "m_23", "g_z"},
+           [src](int k) { return rigidScene(src, k); }, 2.0, opt.quick ? 0.5 : 2.0, 1.0,
+           {{"trapezoidal", 1e-3, fiveBarMethods}}};
+  flexible = {"flexible", "flexible five-bar (F1)", "F1", "z2", {"L_A1", "L_B1", "E", "g_z"},
+              [src](int k) { return flexScene(src, k, 2); }, 2.0, opt.quick ? 0.5 : 2.0, 1.0,
+              {{"trapezoidal", 1e-3, fiveBarMethods}}};
+  fourBar = {"four_bar", "3D four-bar (seed 000)", "", "z4", {"m", "Ix", "c", "k"},
+             [src](int k) { return seedScene(src, "four_bar.yaml", k); }, costT, seedT, seedT, seedCost};
+  pendulum = {"double_pendulum", "3D double pendulum (seed 000)", "", "z2", {"m", "Ix", "c", "k"},
+              [src](int k) { return seedScene(src, "double_pendulum.yaml", k); }, costT, seedT, seedT, seedCost};
+}
 
-  md << "# flexsens speed-versus-accuracy study\n\n"
+/// A method of the error-over-time and nd-sweep sections.
+struct Method {
+  std::string label;
+  Config c;
+};
+
+void studyHeader(StudyRun& run) {
+  run.md << "# flexsens speed-versus-accuracy study\n\n"
      << "Generated by `bash scripts/run-study.sh` (`flexsens study`) in one run on this machine"
-     << (opt.quick ? " (quick mode: shortened sweeps and horizons)" : "") << ". CPU times are process CPU seconds, "
-     << "best of up to " << reps << " repetitions (fewer when they take over " << kRepeatBudget
+     << (run.opt.quick ? " (quick mode: shortened sweeps and horizons)" : "") << ". CPU times are process CPU seconds, "
+     << "best of up to " << run.reps << " repetitions (fewer when they take over " << kRepeatBudget
      << " s together); ratios are "
      << "computed within this run. Models: the PIM paper's five-bar, output z2 [m] (height of node 2), "
      << "case R1 (rigid) and F1 (flexible) from `examples/fivebar/`; the seed paper's (000) 3D four-bar "
      << "and double pendulum from `examples/seed000/`, outputs the joint angles z4 and z2 [rad], parameters "
      << "m and Ix of bar 1, c and k of joint 1. Sensitivities of an output are its gradient times q_p "
      << "(for nd: times the difference quotient of q).\n\n";
+}
 
-  // ---------------------------------------------------------------- 1. cost per method
-  progress("cost tables");
-  md << "## 1. CPU time of dynamics and sensitivities (like seed 000, Tables 1 and 2)\n\n"
+// 1. cost per method
+void costSection(StudyRun& run) {
+  run.progress("cost tables");
+  run.md << "## 1. CPU time of dynamics and sensitivities (like seed 000, Tables 1 and 2)\n\n"
      << "`dynamics` is the run without sensitivities; `sensitivities` = total - dynamics; "
      << "`sens./total` as the seed's last row; `total/dynamics` the cost factor. nd is central, "
      << "nd-forward the seed's forward scheme, both with relative step 1e-6. Simulated time: "
-     << rigid.costT << " s (five-bar), " << costT << " s (seed mechanisms). Plot: `cost.png`.\n\n";
+     << run.rigid.costT << " s (five-bar), " << run.costT << " s (seed mechanisms). Plot: `cost.png`.\n\n";
   std::ostringstream tcsv;
   tcsv << "model,integrator,dt,method,parameters,total_s,dynamics_s,sensitivity_s,ratio,sens_share\n";
-  for (const Mechanism* mech : all) {
+  for (const Mechanism* mech : run.all()) {
     for (const CostSetup& cs : mech->cost) {
-      const double dyn = runCase(mech->scene(1), mech->caseName, config(cs.integrator, cs.dt, "none", mech->costT, 0.05), reps).seconds;
-      md << "### " << mech->title << ", " << cs.integrator << " dt = " << cs.dt * 1e3 << " ms: dynamics alone "
+      const double dyn = runCase(mech->scene(1), mech->caseName, config(cs.integrator, cs.dt, "none", mech->costT, 0.05), run.reps).seconds;
+      run.md << "### " << mech->title << ", " << cs.integrator << " dt = " << cs.dt * 1e3 << " ms: dynamics alone "
          << fmt(dyn * 1e3, 4) << " ms\n\n"
          << "| parameters | method | dynamics [ms] | sensitivities [ms] | total [ms] | sens./total | total/dynamics |\n"
          << "|---|---|---|---|---|---|---|\n";
       for (int k = 1; k <= 4; ++k)
         for (const std::string& method : cs.methods) {
-          const Result r = runCase(mech->scene(k), mech->caseName, config(cs.integrator, cs.dt, method, mech->costT, 0.05), reps);
-          md << "| " << join(mech->params, k) << " | " << method << " | " << fmt(dyn * 1e3, 4) << " | ";
+          const Result r = runCase(mech->scene(k), mech->caseName, config(cs.integrator, cs.dt, method, mech->costT, 0.05), run.reps);
+          run.md << "| " << join(mech->params, k) << " | " << method << " | " << fmt(dyn * 1e3, 4) << " | ";
           if (!r.failure.empty()) {
-            md << "- | - | - | " << shortFailure(r.failure) << " |\n";
+            run.md << "- | - | - | " << shortFailure(r.failure) << " |\n";
             continue;
           }
           const double sens = r.seconds - dyn;
-          md << fmt(sens * 1e3, 4) << " | " << fmt(r.seconds * 1e3, 4) << " | " << fmt(100 * sens / r.seconds, 3)
+          run.md << fmt(sens * 1e3, 4) << " | " << fmt(r.seconds * 1e3, 4) << " | " << fmt(100 * sens / r.seconds, 3)
              << "% | " << fmt(r.seconds / dyn, 3) << " |\n";
           tcsv << mech->key << "," << cs.integrator << "," << cs.dt << "," << method << "," << k << "," << r.seconds
                << "," << dyn << "," << sens << "," << r.seconds / dyn << "," << sens / r.seconds << "\n";
         }
-      md << "\n";
+      run.md << "\n";
     }
   }
-  files.emplace_back("cost.csv", tcsv.str());
+  run.files.emplace_back("cost.csv", tcsv.str());
+}
 
-  // ---------------------------------------------------- 2. error over time per method
-  progress("error over time");
-  md << "## 2. Error of each method over time\n\n"
+// 2. error over time per method
+void errorOverTimeSection(StudyRun& run) {
+  run.progress("error over time");
+  run.md << "## 2. Error of each method over time\n\n"
      << "Against a converged reference: IDAS with analytic sensitivities at rtol = atol = 1e-10. "
      << "Error = |d(output)/dp - reference| for the first parameter (L_A1 for the five-bar, m for the seed "
      << "mechanisms). Plots: `error_time_<model>.png`.\n\n";
-  struct Method {
-    std::string label;
-    Config c;
-  };
   const std::vector<Method> methods = {
       {"trapezoidal dd dt=1e-3", config("trapezoidal", 1e-3, "dd", 0, 0)},
       {"trapezoidal ad dt=1e-3", config("trapezoidal", 1e-3, "ad", 0, 0)},
@@ -342,7 +353,7 @@ std::string runStudy(const StudyOptions& opt) {
       {"idas dq rtol=1e-4", config("idas", 1e-4, "dq", 0, 0)},
       {"idas nd rtol=1e-8 h=1e-6", config("idas", 1e-8, "nd", 0, 0)},
   };
-  for (const Mechanism* mech : all) {
+  for (const Mechanism* mech : run.all()) {
     const std::string text = mech->scene(1);
     const Probe probe(*mech, text);
     const double frame = 0.05;
@@ -377,7 +388,7 @@ std::string runStudy(const StudyOptions& opt) {
       }
       csv << "\n";
     }
-    md << "### " << mech->title << ": d" << mech->output << "/d" << mech->params[0] << ", 0.." << mech->tEnd
+    run.md << "### " << mech->title << ": d" << mech->output << "/d" << mech->params[0] << ", 0.." << mech->tEnd
        << " s (reference " << fmt(ref.seconds, 3) << " s CPU, max |reference| " << sci(refMax) << ")\n\n"
        << "| method | CPU [s] | max error | error at t_end | note |\n|---|---|---|---|---|\n";
     for (size_t i = 0; i < methods.size(); ++i) {
@@ -388,17 +399,19 @@ std::string runStudy(const StudyOptions& opt) {
         if (!std::isnan(last)) worst = std::max(worst, last);
       }
       const bool ok = r.failure.empty();
-      md << "| " << methods[i].label << " | " << fmt(r.seconds, 3) << " | " << (ok ? sci(worst) : "-") << " | "
+      run.md << "| " << methods[i].label << " | " << fmt(r.seconds, 3) << " | " << (ok ? sci(worst) : "-") << " | "
          << (ok ? sci(last) : "-") << " | " << (ok ? "" : shortFailure(r.failure)) << " |\n";
     }
-    md << "\n";
-    files.emplace_back("error_time_" + mech->key + ".csv", csv.str());
+    run.md << "\n";
+    run.files.emplace_back("error_time_" + mech->key + ".csv", csv.str());
   }
+}
 
-  // ------------------------------------------------------------- 3. work-precision
-  progress("work-precision");
-  md << "## 3. Work-precision (error of the output and of its derivative at one time versus CPU time)\n\n"
-     << "Rigid five-bar R1 (z2, dz2/dL_A1 at t = 1 s) and four-bar (z4, dz4/dm at t = " << fourBar.tPoint
+// 3. work-precision
+void workPrecisionSection(StudyRun& run) {
+  run.progress("work-precision");
+  run.md << "## 3. Work-precision (error of the output and of its derivative at one time versus CPU time)\n\n"
+     << "Rigid five-bar R1 (z2, dz2/dL_A1 at t = 1 s) and four-bar (z4, dz4/dm at t = " << run.fourBar.tPoint
      << " s) against IDAS at rtol = atol = 1e-12 (analytic sensitivities); flexible F1 beam segment counts "
      << "against N = 32 (same integrator, trapezoidal dt = 1 ms). generalized_alpha runs at rho_inf = 0.9. "
      << "Plot: `work_precision.png`.\n\n"
@@ -407,21 +420,21 @@ std::string runStudy(const StudyOptions& opt) {
   wcsv << "model,integrator,setting,t,cpu_s,error,value_error\n";
   auto wrow = [&](const std::string& model, const std::string& integ, const std::string& set, double v, double t,
                   const Result& r, double verr, double serr) {
-    md << "| " << model << " | " << integ << " | " << set << " | " << fmt(r.seconds, 3) << " | "
+    run.md << "| " << model << " | " << integ << " | " << set << " | " << fmt(r.seconds, 3) << " | "
        << (r.failure.empty() ? sci(verr) : "-") << " | " << (r.failure.empty() ? sci(serr) : shortFailure(r.failure))
        << " |\n";
     if (r.failure.empty()) wcsv << model << "," << integ << "," << v << "," << t << "," << r.seconds << "," << serr << "," << verr << "\n";
   };
-  const std::vector<double> dts = opt.quick ? std::vector<double>{1e-2, 1e-3}
+  const std::vector<double> dts = run.opt.quick ? std::vector<double>{1e-2, 1e-3}
                                             : std::vector<double>{1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
   const std::vector<std::pair<std::string, std::vector<double>>> sweeps = {
-      {"idas", opt.quick ? std::vector<double>{1e-4, 1e-6}
+      {"idas", run.opt.quick ? std::vector<double>{1e-4, 1e-6}
                          : std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}},
       {"trapezoidal", dts},
       {"bdf1", dts},
       {"generalized_alpha", dts},  // rho_inf 0.9 (the default)
-      {"maggi_rk4", opt.quick ? std::vector<double>{1e-2, 5e-3} : std::vector<double>{1e-2, 5e-3, 2.5e-3, 1.25e-3}}};
-  for (const Mechanism* mech : {&rigid, &fourBar}) {
+      {"maggi_rk4", run.opt.quick ? std::vector<double>{1e-2, 5e-3} : std::vector<double>{1e-2, 5e-3, 2.5e-3, 1.25e-3}}};
+  for (const Mechanism* mech : {&run.rigid, &run.fourBar}) {
     const std::string text = mech->scene(1);
     const Probe probe(*mech, text);
     const double t = mech->tPoint;
@@ -431,37 +444,39 @@ std::string runStudy(const StudyOptions& opt) {
     for (const auto& [integ, values] : sweeps)
       for (double v : values) {
         const Config c = config(integ, v, "dd", t, t / 2);
-        const Result r = runCase(text, mech->caseName, c, reps);
+        const Result r = runCase(text, mech->caseName, c, run.reps);
         const bool ok = r.failure.empty();
         wrow(mech->key, integ, setting(c), v, t, r, ok ? std::abs(probe.value(r.rec.at(t)) - probe.value(ref)) : NAN,
              ok ? std::abs(probe.sens(r.rec.at(t)) - probe.sens(ref)) : NAN);
       }
   }
   {
-    const std::vector<int> segs = opt.quick ? std::vector<int>{2, 4} : std::vector<int>{2, 4, 8, 16};
+    const std::vector<int> segs = run.opt.quick ? std::vector<int>{2, 4} : std::vector<int>{2, 4, 8, 16};
     const Config c = config("trapezoidal", 1e-3, "dd", 1.0, 0.5);
-    const std::string refText = flexScene(src, 1, 32);
+    const std::string refText = flexScene(run.opt.sourceDir, 1, 32);
     const StateWithSens ref = runCase(refText, "F1", c).rec.at(1.0);
-    const Probe refProbe(flexible, refText);
+    const Probe refProbe(run.flexible, refText);
     for (int N : segs) {
-      const std::string text = flexScene(src, 1, N);
-      const Probe probe(flexible, text);
-      const Result r = runCase(text, "F1", c, reps);
+      const std::string text = flexScene(run.opt.sourceDir, 1, N);
+      const Probe probe(run.flexible, text);
+      const Result r = runCase(text, "F1", c, run.reps);
       const bool ok = r.failure.empty();
       wrow("flexible", "segments", "N = " + std::to_string(N) + " segments", N, 1.0, r,
            ok ? std::abs(probe.value(r.rec.at(1.0)) - refProbe.value(ref)) : NAN,
            ok ? std::abs(probe.sens(r.rec.at(1.0)) - refProbe.sens(ref)) : NAN);
     }
   }
-  md << "\n";
-  files.emplace_back("work_precision.csv", wcsv.str());
+  run.md << "\n";
+  run.files.emplace_back("work_precision.csv", wcsv.str());
+}
 
-  // ------------------------------------------------------------------ 4. ND step sweep
-  progress("nd step sweep");
-  md << "## 4. Finite-difference step sweep (truncation against round-off)\n\n"
+// 4. ND step sweep
+void ndSweepSection(StudyRun& run) {
+  run.progress("nd step sweep");
+  run.md << "## 4. Finite-difference step sweep (truncation against round-off)\n\n"
      << "Error of nd with relative step h against dd of the same integrator and setting (for the fixed-step "
      << "integrators the exact derivative of the discrete solution; for IDAS rtol 1e-8, its own dd): "
-     << "rigid five-bar dz2/dL_A1 at t = 1 s, four-bar dz4/dm at t = " << fourBar.tPoint << " s. "
+     << "rigid five-bar dz2/dL_A1 at t = 1 s, four-bar dz4/dm at t = " << run.fourBar.tPoint << " s. "
      << "Plot: `nd_sweep.png`.\n\n";
   std::ostringstream ncsv;
   const std::vector<Method> schemes = {{"trapezoidal central", config("trapezoidal", 1e-3, "nd", 0, 0)},
@@ -471,7 +486,7 @@ std::string runStudy(const StudyOptions& opt) {
   ncsv << "model,t,h";
   for (const auto& s : schemes) ncsv << "," << s.label;
   ncsv << "\n";
-  for (const Mechanism* mech : {&rigid, &fourBar}) {
+  for (const Mechanism* mech : {&run.rigid, &run.fourBar}) {
     const std::string text = mech->scene(1);
     const Probe probe(*mech, text);
     const double t = mech->tPoint;
@@ -480,86 +495,108 @@ std::string runStudy(const StudyOptions& opt) {
       const Result r = runCase(text, mech->caseName, config(s.c.integrator, s.c.dtOrTol, "dd", t, t / 2));
       exact.push_back(r.failure.empty() ? probe.sens(r.rec.at(t)) : NAN);
     }
-    md << "### " << mech->title << "\n\n| h |";
-    for (const auto& s : schemes) md << " " << s.label << " |";
-    md << "\n|---|";
-    for (size_t i = 0; i < schemes.size(); ++i) md << "---|";
-    md << "\n";
-    const int lo = opt.quick ? 6 : 12;
+    run.md << "### " << mech->title << "\n\n| h |";
+    for (const auto& s : schemes) run.md << " " << s.label << " |";
+    run.md << "\n|---|";
+    for (size_t i = 0; i < schemes.size(); ++i) run.md << "---|";
+    run.md << "\n";
+    const int lo = run.opt.quick ? 6 : 12;
     for (int e = 1; e <= lo; ++e) {
       const double h = std::pow(10.0, -e);
-      md << "| 1e-" << e << " |";
+      run.md << "| 1e-" << e << " |";
       ncsv << mech->key << "," << t << "," << h;
       for (size_t i = 0; i < schemes.size(); ++i) {
         const Config c = config(schemes[i].c.integrator, schemes[i].c.dtOrTol, schemes[i].c.method, t, t / 2, h);
         const Result r = runCase(text, mech->caseName, c);
         const double err = r.failure.empty() ? std::abs(probe.sens(r.rec.at(t)) - exact[i]) : NAN;
-        md << " " << sci(err) << " |";
+        run.md << " " << sci(err) << " |";
         ncsv << ",";
         if (!std::isnan(err)) ncsv << err;
       }
-      md << "\n";
+      run.md << "\n";
       ncsv << "\n";
     }
-    md << "\n";
+    run.md << "\n";
   }
-  files.emplace_back("nd_sweep.csv", ncsv.str());
+  run.files.emplace_back("nd_sweep.csv", ncsv.str());
+}
 
-  // ------------------------------------------------------- 5. stability at the extremes
+// 5. stability at the extremes
+void stabilitySection(StudyRun& run) {
   // The full sweeps behind tests/test_extremes.cpp: every run ends in a result or a
   // diagnostic (time, step, quantity), never in NaN written as a result.
-  progress("stability at the extremes");
-  const double tStab = opt.quick ? 0.5 : 2.0;
-  md << "## 5. Stability at the extremes\n\n"
+  run.progress("stability at the extremes");
+  const double tStab = run.opt.quick ? 0.5 : 2.0;
+  run.md << "## 5. Stability at the extremes\n\n"
      << "Each run ends complete (finite states and sensitivities) or stopped with a diagnostic; "
      << "`max |Phi|` is the largest constraint violation over the run.\n\n"
      << "### Beam stiffness: flexible five-bar (F1), trapezoidal dt = 1 ms, " << tStab << " s\n\n"
      << "| E [Pa] | outcome | dz2/dL_A1 at the end | max abs Phi | steps | Newton iterations | CPU [s] |\n"
      << "|---|---|---|---|---|---|---|\n";
   for (double E : {1e3, 1e5, 1e7, 1e9, 1e11, 1e12}) {
-    std::string text = flexible.scene(1);
+    std::string text = run.flexible.scene(1);
     std::ostringstream e;
     e << "E: " << E;
     replaceOnce(text, "E: 206.94e9", e.str());
-    const Probe probe(flexible, text);
-    const Result r = runCase(text, flexible.caseName, config("trapezoidal", 1e-3, "dd", tStab, tStab));
-    md << "| " << sci(E) << " | " << (r.failure.empty() ? "complete" : shortFailure(r.failure)) << " | "
+    const Probe probe(run.flexible, text);
+    const Result r = runCase(text, run.flexible.caseName, config("trapezoidal", 1e-3, "dd", tStab, tStab));
+    run.md << "| " << sci(E) << " | " << (r.failure.empty() ? "complete" : shortFailure(r.failure)) << " | "
        << (r.failure.empty() ? sci(probe.sens(r.rec.at(tStab))) : "-") << " | " << sci(r.stats.maxConstraintViolation)
        << " | " << r.stats.steps << " | " << r.stats.newtonIterations << " | " << fmt(r.seconds) << " |\n";
   }
-  const double tDt = opt.quick ? 0.1 : 0.5;
-  md << "\n### Step size: rigid five-bar (R1), trapezoidal, " << tDt << " s (reference IDAS rtol 1e-10)\n\n"
+  const double tDt = run.opt.quick ? 0.1 : 0.5;
+  run.md << "\n### Step size: rigid five-bar (R1), trapezoidal, " << tDt << " s (reference IDAS rtol 1e-10)\n\n"
      << "| dt [s] | outcome | error of z2 | error of dz2/dL_A1 | max abs Phi | Newton iterations | CPU [s] |\n"
      << "|---|---|---|---|---|---|---|\n";
   {
-    const std::string text = rigid.scene(1);
-    const Probe probe(rigid, text);
-    const Result ref = runCase(text, rigid.caseName, reference(tDt, tDt));
+    const std::string text = run.rigid.scene(1);
+    const Probe probe(run.rigid, text);
+    const Result ref = runCase(text, run.rigid.caseName, reference(tDt, tDt));
     const auto& fr = ref.rec.at(tDt);
     for (double dt : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
-      if (opt.quick && dt < 1e-4) continue;
-      const Result r = runCase(text, rigid.caseName, config("trapezoidal", dt, "dd", tDt, tDt));
+      if (run.opt.quick && dt < 1e-4) continue;
+      const Result r = runCase(text, run.rigid.caseName, config("trapezoidal", dt, "dd", tDt, tDt));
       const bool ok = r.failure.empty();
-      md << "| " << sci(dt) << " | " << (ok ? "complete" : shortFailure(r.failure)) << " | "
+      run.md << "| " << sci(dt) << " | " << (ok ? "complete" : shortFailure(r.failure)) << " | "
          << (ok ? sci(std::abs(probe.value(r.rec.at(tDt)) - probe.value(fr))) : "-") << " | "
          << (ok ? sci(std::abs(probe.sens(r.rec.at(tDt)) - probe.sens(fr))) : "-") << " | "
          << sci(r.stats.maxConstraintViolation) << " | " << r.stats.newtonIterations << " | " << fmt(r.seconds) << " |\n";
     }
   }
-  md << "\n";
+  run.md << "\n";
+}
 
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
-  progress("done");
-  md << "## Plots\n\n![cost](cost.png)\n\n";
-  for (const Mechanism* mech : all)
-    md << "![error over time, " << mech->title << "](error_time_" << mech->key << ".png)\n\n";
-  md << "![work-precision](work_precision.png)\n\n![nd step sweep](nd_sweep.png)\n\n"
+/// The report's plots and timing; returns the plots scripts/plot_study.py draws.
+std::vector<std::string> studyEnd(StudyRun& run) {
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.wall0).count();
+  const double cpu = double(std::clock() - run.cpu0) / CLOCKS_PER_SEC;
+  run.progress("done");
+  run.md << "## Plots\n\n![cost](cost.png)\n\n";
+  for (const Mechanism* mech : run.all())
+    run.md << "![error over time, " << mech->title << "](error_time_" << mech->key << ".png)\n\n";
+  run.md << "![work-precision](work_precision.png)\n\n![nd step sweep](nd_sweep.png)\n\n"
      << "This run took " << fmt(wall, 4) << " s wall clock, " << fmt(cpu, 4) << " s CPU.\n";
-  files.emplace_back("study.md", md.str());
+  run.files.emplace_back("study.md", run.md.str());
   std::vector<std::string> plots = {"cost.png", "work_precision.png", "nd_sweep.png"};
-  for (const Mechanism* mech : all) plots.push_back("error_time_" + mech->key + ".png");
-  return writeStudyOutput(dir, files, plots);
+  for (const Mechanism* mech : run.all()) plots.push_back("error_time_" + mech->key + ".png");
+  return plots;
+}
+
+}  // namespace
+
+std::string runStudy(const StudyOptions& opt) {
+  // Locked and checked before minutes of computing; staged, every write checked, moved into
+  // place at the end (output/RunDirectory.hpp).
+  RunDirectory dir(opt.outDir, "study");
+  StudyRun run(opt);
+  studyHeader(run);
+  costSection(run);
+  errorOverTimeSection(run);
+  workPrecisionSection(run);
+  ndSweepSection(run);
+  stabilitySection(run);
+  const std::vector<std::string> plots = studyEnd(run);
+  return writeStudyOutput(dir, run.files, plots);
 }
 
 std::string writeStudyOutput(RunDirectory& dir, const std::vector<std::pair<std::string, std::string>>& files,

@@ -6,37 +6,14 @@
 #pragma once
 
 #include "core/Assembler.hpp"
+#include "integrators/GglSystem.hpp"
 #include "integrators/Settings.hpp"
 #include "integrators/State.hpp"
 
 namespace flexsens {
 
-/// Constraint rows whose velocity-level GGL row is replaced by mu_r = 0: the rows touching
-/// massless coordinates (ascending). Their multipliers lambda_r are fixed algebraically by the
-/// massless coordinates' equilibrium (index 1), so they need no velocity stabilization; with it,
-/// v_m = q_m' + (Phi_q^T mu)_m made v_m and mu index-2 variables through the derivative of an
-/// algebraic q_m, and IDAS' corrector failed at random times on the massless satellite.
-std::vector<int> gglPinnedRows(const Assembler& as, const std::vector<int>& massless);
-/// GGL residual F(y, y') with y = (q, v, lambda, mu); M is the constant mass matrix; rows
-/// `pinned` of the velocity constraints read mu_r = 0 instead.
-VecX gglResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y, const VecX& yp,
-                 const std::vector<int>& pinned = {});
-/// dF/dy + cj dF/dy', assembled through acc (pattern cached there).
-const SpMat& gglJacobian(const Assembler& as, const VecX& p, const VecX& y, double cj,
-                         SparseAccumulator& acc, const std::vector<int>& pinned = {});
-/// Sensitivity residual F_y s + F_y' s' + F_p for parameter k.
-VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
-                            const VecX& yp, int k, const VecX& s, const VecX& sd,
-                            const std::vector<int>& pinned = {});
-/// The same with Qq = dQ/dq and Qv = dQ/dv at y given (assembled once for all parameters: rebuilding
-/// them per parameter and call was a quarter of an IDAS run's time, in pattern builds and heap).
-VecX gglSensitivityResidual(const Assembler& as, const VecX& p, const SpMat& M, const VecX& y,
-                            const VecX& yp, int k, const VecX& s, const VecX& sd, const SpMat& Qq,
-                            const SpMat& Qv, const std::vector<int>& pinned = {});
-/// dQ/dq and dQ/dv at the positions and velocities of y, into kq and kv (one element pass).
-void gglForceJacobians(const Assembler& as, const VecX& p, const VecX& y, SparseAccumulator& kq,
-                       SparseAccumulator& kv);
-
+/// Integrates from `start` to set.tEnd, a frame at every multiple of set.frameInterval (and at
+/// t_end), one IdasStepper step at a time (integrators/IdasStepper.hpp).
 IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWithSens& start,
                               const IntegratorSettings& set, Observer& obs);
 

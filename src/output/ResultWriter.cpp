@@ -1,21 +1,13 @@
 #include "output/ResultWriter.hpp"
 
-#include "elements/ShellTriangle.hpp"
-#include "elements/Solid.hpp"
-
-#include <vtkCellData.h>
-#include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
-#include <vtkIntArray.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <sys/stat.h>
 
 #include "constraints/Driver.hpp"
+#include "output/VtuFrame.hpp"
 
 #include <array>
 #include <cerrno>
@@ -34,11 +26,6 @@ namespace {
 double wallSeconds() {
   using namespace std::chrono;
   return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
-/// Index (0..2) of planar axis c in 3D, given the scene's plane ("xz" -> x=0, z=2).
-int axis3(const Model& m, int c) {
-  const char a = m.axisName(c);
-  return a == 'x' ? 0 : (a == 'y' ? 1 : 2);
 }
 }  // namespace
 
@@ -146,14 +133,7 @@ void ResultWriter::frame(const StateWithSens& s) {
 }
 
 VecX ResultWriter::gatherNodes(const std::vector<int>& nodes, const VecX& q, bool derivative) const {
-  const Model& m = *scene_.model;
-  VecX x(m.dim * nodes.size());
-  for (size_t a = 0; a < nodes.size(); ++a)
-    for (int c = 0; c < m.dim; ++c) {
-      const int d = m.dof(nodes[a], c);
-      x[m.dim * a + c] = d >= 0 ? q[d] : (derivative ? 0.0 : m.nodes[nodes[a]].position[c]);
-    }
-  return x;
+  return gatherNodeCoordinates(*scene_.model, nodes, q, derivative);
 }
 
 void ResultWriter::requireFiniteRow() const {
@@ -178,214 +158,7 @@ void ResultWriter::fail(const std::string& name, int err) const {
 
 void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) const {
   const std::string path = dir_ + "/" + name;
-  const Model& m = *scene_.model;
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  auto vectorArray = [&](const std::string& name) {
-    vtkNew<vtkDoubleArray> a;
-    a->SetName(name.c_str());
-    a->SetNumberOfComponents(3);
-    a->SetNumberOfTuples(m.nodes.size());
-    return a;
-  };
-  auto pos = vectorArray("position"), disp = vectorArray("displacement"), vel = vectorArray("velocity");
-  std::vector<vtkSmartPointer<vtkDoubleArray>> dq, dv, ds;
-  for (size_t k = 0; k < s.dp.size(); ++k) {
-    dq.push_back(vectorArray("dq/d" + m.parameters[k].name));
-    dv.push_back(vectorArray("dv/d" + m.parameters[k].name));
-  }
-  // Nodes say what they carry: when some carry a slope (ANCF; an ancf_beam node: its r_x), the slope r' = dr/ds [-], its
-  // rate [1/s] and its sensitivities are point-data vectors too (zero on nodes without one).
-  bool slopes = false;
-  for (const Node& nd : m.nodes) slopes = slopes || nd.hasSlope();
-  vtkSmartPointer<vtkDoubleArray> slope, slopeRate;
-  if (slopes) {
-    slope = vectorArray("slope");
-    slopeRate = vectorArray("slope_rate");
-    for (size_t k = 0; k < s.dp.size(); ++k) ds.push_back(vectorArray("dslope/d" + m.parameters[k].name));
-  }
-  for (size_t i = 0; i < m.nodes.size(); ++i) {
-    double x[3] = {0, 0, 0}, x0[3] = {0, 0, 0}, v[3] = {0, 0, 0};
-    std::vector<std::array<double, 3>> sq(s.dp.size(), {0, 0, 0}), sv(s.dp.size(), {0, 0, 0});
-    for (int c = 0; c < m.dim; ++c) {
-      const int a = m.dim == 3 ? c : axis3(m, c);
-      const int d = m.dof(static_cast<int>(i), c);
-      x0[a] = m.nodes[i].position[c];
-      x[a] = d < 0 ? x0[a] : s.x.q[d];
-      v[a] = d < 0 ? 0.0 : s.x.v[d];
-      for (size_t k = 0; k < s.dp.size(); ++k) {
-        sq[k][a] = d < 0 ? 0.0 : s.dp[k].q[d];
-        sv[k][a] = d < 0 ? 0.0 : s.dp[k].v[d];
-      }
-    }
-    pts->InsertNextPoint(x);
-    pos->SetTuple(i, x);
-    const double u[3] = {x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]};
-    disp->SetTuple(i, u);
-    vel->SetTuple(i, v);
-    for (size_t k = 0; k < s.dp.size(); ++k) {
-      dq[k]->SetTuple(i, sq[k].data());
-      dv[k]->SetTuple(i, sv[k].data());
-    }
-    if (!slopes) continue;
-    double r1[3] = {0, 0, 0}, w1[3] = {0, 0, 0};
-    std::vector<std::array<double, 3>> sr(s.dp.size(), {0, 0, 0});
-    if (m.nodes[i].hasSlope())
-      for (int c = 0; c < m.dim; ++c) {
-        const int a = m.dim == 3 ? c : axis3(m, c);
-        const int d = m.dof(static_cast<int>(i), m.dim + c);  // -1: clamped, fixed slope
-        r1[a] = m.coordinate(s.x.q, static_cast<int>(i), m.dim + c);
-        w1[a] = d < 0 ? 0.0 : s.x.v[d];
-        for (size_t k = 0; k < s.dp.size(); ++k) sr[k][a] = d < 0 ? 0.0 : s.dp[k].q[d];
-      }
-    slope->SetTuple(i, r1);
-    slopeRate->SetTuple(i, w1);
-    for (size_t k = 0; k < s.dp.size(); ++k) ds[k]->SetTuple(i, sr[k].data());
-  }
-  vtkNew<vtkUnstructuredGrid> grid;
-  grid->SetPoints(pts);
-  vtkNew<vtkIntArray> kind, id;
-  kind->SetName("element_kind");  // 1 rigid bar, 2 spring-damper, 3 beam segment, 4 rigid body, 5 solid, 6 ANCF cable, 7 ANCF beam, 8 shell triangle
-  id->SetName("element_id");
-  std::map<vtkIdType, size_t> shellCells;  // cell -> element, of the shell triangles
-  for (size_t e = 0; e < m.elements.size(); ++e) {
-    const auto& el = *m.elements[e];
-    const std::string k = el.kind();
-    // Two-node elements are lines; a rigid body shows its basic frame (A-B, A-C, A-D);
-    // beam hinges and rotational springs share the lines of the elements they join.
-    std::vector<std::array<int, 2>> lines;
-    if (el.nodes().size() == 2) lines.push_back({el.nodes()[0], el.nodes()[1]});
-    if (k == "rigid_body")
-      for (int j = 1; j < 4; ++j) lines.push_back({el.nodes()[0], el.nodes()[j]});
-    for (const auto& l : lines) {
-      vtkIdType ids[2] = {l[0], l[1]};
-      grid->InsertNextCell(VTK_LINE, 2, ids);
-      kind->InsertNextValue(k == "rigid_bar" ? 1 : k == "spring_damper" ? 2 : k == "beam_segment" ? 3
-                                                  : k == "rigid_body" ? 4 : k == "ancf_cable" ? 6 : k == "ancf_beam" ? 7 : 0);
-      id->InsertNextValue(static_cast<int>(e));
-    }
-    if (k == "shell_triangle") {  // the shell's surface (its hinges have no cell of their own)
-      vtkIdType ids[3] = {el.nodes()[0], el.nodes()[1], el.nodes()[2]};
-      shellCells[grid->GetNumberOfCells()] = e;
-      grid->InsertNextCell(VTK_TRIANGLE, 3, ids);
-      kind->InsertNextValue(8);
-      id->InsertNextValue(static_cast<int>(e));
-    }
-  }
-  // Meshed bodies (elements/Solid.hpp): cells of their real type, with cell data of the
-  // Green-Lagrange strain, the second Piola-Kirchhoff and Cauchy stresses (3x3 tensors in the
-  // scene's axes, planar ones padded with zeros) and the von Mises stress at each cell's
-  // centroid, at the nominal parameters, and their sensitivities d/dp (named like
-  // "dstress_cauchy/dE": the chain rule through the run's dq/dp plus the explicit dependence on
-  // E and nu, Solid::centroidStressDerivative); NaN on the other cells. Only when the model has one.
-  // Shell triangles (elements/ShellTriangle.hpp) carry their membrane strain and stresses and
-  // their sensitivities (ShellTriangle::membraneStressDerivative).
-  bool anySolid = !shellCells.empty();
-  for (const auto& el : m.elements) anySolid = anySolid || dynamic_cast<const Solid*>(el.get());
-  // [0 .. 3]: strain, PK2, Cauchy, von Mises; then the same four per parameter.
-  std::vector<vtkSmartPointer<vtkDoubleArray>> cellArrays;
-  if (anySolid) {
-    const vtkIdType before = grid->GetNumberOfCells();
-    std::vector<std::string> suffix = {""};
-    for (size_t k = 0; k < s.dp.size(); ++k) suffix.push_back("/d" + m.parameters[k].name);
-    for (const std::string& sfx : suffix)
-      for (const char* base : {"green_lagrange_strain", "stress_pk2", "stress_cauchy", "von_mises"}) {
-        auto a = vtkSmartPointer<vtkDoubleArray>::New();
-        a->SetName(((sfx.empty() ? "" : "d") + std::string(base) + sfx).c_str());
-        a->SetNumberOfComponents(std::string(base) == "von_mises" ? 1 : 9);
-        cellArrays.push_back(a);
-      }
-    const double nan = std::nan("");
-    const std::array<double, 9> nans{nan, nan, nan, nan, nan, nan, nan, nan, nan};
-    const VecX pn = m.nominalParameters();
-    for (vtkIdType c = 0; c < before; ++c) {
-      const auto sc = shellCells.find(c);
-      if (sc == shellCells.end()) {
-        for (auto& a : cellArrays) a->InsertNextTuple(nans.data());
-        continue;
-      }
-      const auto& tri = static_cast<const ShellTriangle&>(*m.elements[sc->second]);
-      LocalState ls;
-      ls.dim = 3;
-      ls.p = &pn;
-      ls.x.resize(9);
-      for (int j = 0; j < 3; ++j)
-        for (int cc = 0; cc < 3; ++cc) ls.x[3 * j + cc] = m.coordinate(s.x.q, tri.nodes()[j], cc);
-      MatX E, S, sig;
-      double vm;
-      tri.membraneStress(ls, E, S, sig, vm);
-      cellArrays[0]->InsertNextTuple(E.data());  // symmetric: column-major = row-major
-      cellArrays[1]->InsertNextTuple(S.data());
-      cellArrays[2]->InsertNextTuple(sig.data());
-      cellArrays[3]->InsertNextTuple(&vm);
-      for (size_t k = 0; k < s.dp.size(); ++k) {
-        tri.membraneStressDerivative(ls, gatherNodes(tri.nodes(), s.dp[k].q, true), static_cast<int>(k), E, S, sig, vm);
-        cellArrays[4 * k + 4]->InsertNextTuple(E.data());
-        cellArrays[4 * k + 5]->InsertNextTuple(S.data());
-        cellArrays[4 * k + 6]->InsertNextTuple(sig.data());
-        cellArrays[4 * k + 7]->InsertNextTuple(&vm);
-      }
-    }
-    const VecX p = m.nominalParameters();
-    for (size_t e = 0; e < m.elements.size(); ++e) {
-      const auto* so = dynamic_cast<const Solid*>(m.elements[e].get());
-      if (!so) continue;
-      const auto& nodes = so->nodes();
-      std::vector<vtkIdType> ids(nodes.begin(), nodes.end());
-      const int type = so->shape() == Simplex::Tri3 ? VTK_TRIANGLE : so->shape() == Simplex::Tri6 ? VTK_QUADRATIC_TRIANGLE
-                       : so->shape() == Simplex::Tet4 ? VTK_TETRA : VTK_QUADRATIC_TETRA;
-      grid->InsertNextCell(type, static_cast<vtkIdType>(ids.size()), ids.data());
-      kind->InsertNextValue(5);
-      id->InsertNextValue(static_cast<int>(e));
-      LocalState ls;
-      ls.dim = m.dim;
-      ls.p = &p;
-      ls.x.resize(m.dim * nodes.size());
-      for (size_t j = 0; j < nodes.size(); ++j)
-        for (int c = 0; c < m.dim; ++c) ls.x[j * m.dim + c] = m.coordinate(s.x.q, nodes[j], c);
-      auto put = [&](vtkDoubleArray* a, const MatX& T) {
-        std::array<double, 9> t{};
-        for (int r = 0; r < m.dim; ++r)
-          for (int c = 0; c < m.dim; ++c) {
-            const int R = m.dim == 3 ? r : axis3(m, r), C = m.dim == 3 ? c : axis3(m, c);
-            t[3 * R + C] = T(r, c);
-          }
-        a->InsertNextTuple(t.data());
-      };
-      for (size_t k = 0; k <= s.dp.size(); ++k) {
-        MatX E, S, sig;
-        double vm = nan;
-        try {
-          if (k == 0)
-            so->centroidStress(ls, E, S, sig, vm);
-          else
-            so->centroidStressDerivative(ls, gatherNodes(nodes, s.dp[k - 1].q, true), static_cast<int>(k - 1), E, S,
-                                         sig, vm);
-        } catch (const NumericalError&) {  // inside out: no stress to show
-          E = S = sig = MatX::Constant(m.dim, m.dim, nan);
-        }
-        put(cellArrays[4 * k], E);
-        put(cellArrays[4 * k + 1], S);
-        put(cellArrays[4 * k + 2], sig);
-        cellArrays[4 * k + 3]->InsertNextValue(vm);
-      }
-    }
-  }
-  grid->GetCellData()->AddArray(kind);
-  grid->GetCellData()->AddArray(id);
-  for (auto& a : cellArrays) grid->GetCellData()->AddArray(a);
-  grid->GetPointData()->AddArray(pos);
-  grid->GetPointData()->AddArray(disp);
-  grid->GetPointData()->AddArray(vel);
-  for (size_t k = 0; k < dq.size(); ++k) {
-    grid->GetPointData()->AddArray(dq[k]);
-    grid->GetPointData()->AddArray(dv[k]);
-  }
-  if (slopes) {
-    grid->GetPointData()->AddArray(slope);
-    grid->GetPointData()->AddArray(slopeRate);
-    for (const auto& a : ds) grid->GetPointData()->AddArray(a);
-  }
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = frameGrid(*scene_.model, s);
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);

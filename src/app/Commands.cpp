@@ -1,0 +1,163 @@
+#include "app/Commands.hpp"
+
+#include <iostream>
+#include <sstream>
+
+#include "core/Interrupt.hpp"
+#include "core/MemoryBudget.hpp"
+#include "integrators/InitialState.hpp"
+#include "output/RunDirectory.hpp"
+
+namespace flexsens {
+
+// ------------------------------------------------------------------ run
+std::vector<RunCase> prepareRun(const RunRequest& request) {
+  Scene base = readScene(request.scenePath);
+  base.requireDynamics();
+  std::vector<std::string> names = request.cases;
+  if (names.empty()) names = base.caseNames;
+  if (names.empty()) names.push_back("");
+  if (!base.hasIntegrator)
+    throw InputError(request.scenePath + ":1:1: key 'integrator': the scene has no integrator (a static scene: "
+                     "use `flexsens static`, or add an integrator to run it)");
+  std::vector<RunCase> cases;
+  for (const auto& name : names) {
+    cases.push_back({request.scenePath, name, name.empty() ? std::move(base) : readScene(request.scenePath, name), ""});
+    applyOptions(cases.back().scene, request.options);
+    cases.back().directory = cases.back().scene.output.directory + (name.empty() ? "" : "/" + name);
+  }
+  return cases;
+}
+
+RunCommandResult runCases(const std::vector<RunCase>& cases,
+                          const std::function<void(const RunCase&, const RunResult&)>& caseDone) {
+  RunCommandResult result;
+  if (cases.empty()) return result;
+  // The output folder locked once for all the cases (each into <folder>/<case>/).
+  RunDirectory out(cases.front().scene.output.directory, cases.front().name.empty() ? "run" : "cases");
+  for (const RunCase& c : cases) {
+    std::cerr << "flexsens: running " << c.scenePath << (c.name.empty() ? "" : " case " + c.name) << " with "
+              << c.scene.integrator.type << " to t = " << c.scene.integrator.tEnd << " s\n";
+    result.cases.push_back(runScene(c.scene, out, c.name));
+    if (!result.cases.back().suspect.empty()) result.status = 5;
+    if (caseDone) caseDone(c, result.cases.back());
+    if (const int sig = interruptSignal()) {  // arrived after the last step: later cases do not start
+      result.interruptedBy = sig;
+      break;
+    }
+  }
+  return result;
+}
+
+RunCommandResult runCommand(const RunRequest& request,
+                            const std::function<void(const RunCase&, const RunResult&)>& caseDone) {
+  return runCases(prepareRun(request), caseDone);
+}
+
+// ------------------------------------------------------------------ static
+StaticCommandResult staticCommand(const StaticRequest& request) {
+  Scene sc = readScene(request.scenePath);
+  if (request.loadSteps) {
+    if (*request.loadSteps < 1 || *request.loadSteps > 100000)
+      throw InputError("option --load-steps: expected 1 to 100000");
+    sc.statics.loadSteps = *request.loadSteps;
+  }
+  if (!request.method.empty()) {
+    if (request.method != "dd" && request.method != "ad")
+      throw InputError("option --method: static sensitivities are dd or ad, got '" + request.method + "'");
+    sc.sensitivity.method = request.method;
+  }
+  StaticCommandResult out;
+  // Beside the run's directory, not inside it: a rerun replaces its directory whole.
+  out.directory = request.outDir.empty() ? sc.output.directory + "-static" : request.outDir;
+  out.vtk = sc.output.vtk;
+  try {
+    out.result = runStaticScene(sc, out.directory, sc.statics.loadSteps);
+  } catch (const Interrupted& e) {
+    out.interruptedBy = e.signal;
+    out.interruptedAt = e.t;
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------ modes
+ModesCommandResult modesCommand(const ModesRequest& request) {
+  Scene sc = readScene(request.scenePath);
+  sc.requireDynamics();
+  requireModesMemory(sc.model->n);
+  Assembler as(*sc.model);
+  const VecX p = sc.model->nominalParameters();
+  ModesCommandResult out;
+  out.leftOutRows = sc.model->redundantRows;
+  if (!out.leftOutRows.empty()) {  // left out by the reader; the modes are those of the rest
+    std::cerr << "flexsens: note: constraint rows dependent on the others at the initial positions, left out:";
+    for (const auto& l : out.leftOutRows) std::cerr << " " << l;
+    std::cerr << "\n";
+  }
+  requireIndependentConstraints(as, projectPositions(as, sc.model->initialPositions(), p), p);
+  out.analysis = analyzeModes(as, consistentState(as, p), p, request.count);
+  return out;
+}
+
+// ------------------------------------------------------------------ check
+CheckResult checkCommand(const std::string& scenePath) {
+  Scene sc = readScene(scenePath);
+  sc.requireDynamics();
+  const Model& m = *sc.model;
+  CheckResult r;
+  r.scenePath = scenePath;
+  r.dim = m.dim;
+  r.n = m.n;
+  r.m = m.m;
+  r.elements = m.elements.size();
+  r.constraints = m.constraints.size();
+  r.parameters = m.parameters.size();
+  r.outputs = sc.outputs.size();
+  r.redundantRows = m.redundantRows;
+  // The reader left dependent rows out already (core/RedundantRows.hpp); confirm the rest.
+  r.stillDependent = dependentRows(m, m.initialPositions(), m.nominalParameters());
+  for (const auto& name : sc.caseNames) {
+    // The PIM's own count: m_r = independent rigidization equations (rank-revealing).
+    Scene cs = readScene(scenePath, name);
+    const Model& cm = *cs.model;
+    Assembler as(cm);
+    CaseCheck c{name, cm.n, cm.m, {}};
+    initialState(as, cm.nominalParameters(), cs.pimCase.get(), &c.pim);
+    r.cases.push_back(c);
+  }
+  return r;
+}
+
+std::string checkReport(const CheckResult& r) {
+  std::ostringstream os;
+  os << r.scenePath << ": valid\n"
+     << "  dimension " << r.dim << ", n = " << r.n << " coordinates, m = " << r.m << " constraint equations, d = "
+     << r.n - r.m << " degrees of freedom\n"
+     << "  " << r.elements << " elements, " << r.constraints << " constraints, " << r.parameters << " parameters, "
+     << r.outputs << " outputs\n";
+  if (!r.stillDependent.rows.empty())  // cannot happen after leaveOutRedundantRows; say so if it does
+    os << "  constraints still dependent after the elimination: rank " << r.stillDependent.rank << " of " << r.m << "\n";
+  else if (r.redundantRows.empty())
+    os << "  constraints independent at the initial positions (rank Phi_q = " << r.m << ")\n";
+  else {
+    os << "  REDUNDANT constraints: rank Phi_q = " << r.m << " of " << r.m + r.redundantRows.size()
+       << " rows, so the mechanism has " << r.n - r.m << " degrees of freedom. Dependent rows, left out "
+          "of the dynamics (run checks that they stay satisfied; remove them from the scene, or "
+          "replace joints by ones that constrain less, e.g. a spherical for a revolute in a planar loop):";
+    for (const auto& l : r.redundantRows) os << " " << l;
+    os << "\n";
+  }
+  for (const CaseCheck& c : r.cases) {
+    const PimReport& rep = c.pim;
+    os << "  case " << c.name << ": n = " << c.n << ", m = " << c.m << ", d = " << c.n - c.m << ", m_r = " << rep.mr
+       << " (" << rep.lambdaGenerated << " generated, " << rep.lambdaDropped << " implied by the constraints), ";
+    if (rep.massless) os << "e = " << rep.me << " equilibrium rows of " << rep.massless << " massless coordinates, ";
+    os << "d_s = " << rep.ds << " SDOFs, cond(A) = " << rep.condition << "\n";
+  }
+  return os.str();
+}
+
+// ------------------------------------------------------------------ study
+std::string studyCommand(const StudyOptions& options) { return runStudy(options); }
+
+}  // namespace flexsens
