@@ -1,5 +1,5 @@
 // Four-panel satellite with ANCF panel beams and springs (examples/satellite/satellite_ancf.yaml),
-// units m. The geometry of meshes/satellite.geo, with the joints between two ANCF chains split:
+// units m. The geometry of satellite.geo, with the joints between two ANCF chains split:
 // an ANCF node carries one slope, so two chains sharing a node would be welded there. The
 // paper's joints are pins, so each second chain gets its own end point at the same place
 // (A1b..A4b: the second panel beam at each cube corner; P1s..P4s: the spring's end on its
