@@ -11,7 +11,7 @@ namespace flexsens {
 void EnergyAudit::stepped(const State& x) {
   next_.stepped(x);
   const Energy e = meter_.at(x.q, x.v);
-  const double P = meter_.power(x);
+  const double P = meter_.externalPower(x);
   if (!started_) {
     started_ = true;
     e0_ = e.total();
@@ -21,9 +21,11 @@ void EnergyAudit::stepped(const State& x) {
   } else {
     ++steps_;
     work_ += 0.5 * (x.t - tLast_) * (P + pLast_);  // NaN from here on when P is unknown
+    work_ += dampingWork(x);
   }
   pLast_ = P;
   tLast_ = x.t;
+  qLast_ = x.q;
   eLast_ = e.total();
   tMax_ = std::max(tMax_, e.kinetic);
   vMin_ = std::min(vMin_, e.potential);
@@ -32,6 +34,20 @@ void EnergyAudit::stepped(const State& x) {
   const double balance = eLast_ - e0_ - work_;
   if (balance > maxRise_) maxRise_ = balance, tRise_ = x.t;
   if (-balance > maxLoss_) maxLoss_ = -balance, tLoss_ = x.t;
+}
+
+// The dampers' work over the step from (tLast_, qLast_) to x [J]: dq . F_d(q_mid, dq / h), with
+// the mean velocity dq / h of the step. A damper's force is linear in v at given q and opposes
+// it, so this is <= 0, and it is what a step does to a stiff damped mode it leaves unresolved
+// (v_n+1 ~ -v_n, dq ~ 0): nothing.
+double EnergyAudit::dampingWork(const State& x) const {
+  const double h = x.t - tLast_;
+  if (!meter_.damped() || h == 0.0) return 0.0;  // IDAS can report a step back to a frame: h < 0
+  State mid;
+  mid.t = 0.5 * (x.t + tLast_);
+  mid.q = 0.5 * (x.q + qLast_);
+  mid.v = (x.q - qLast_) / h;
+  return (x.q - qLast_).dot(meter_.dampingForce(mid));
 }
 
 // The largest rise or loss of the balance as a fraction of the scale (-1 when not judged).

@@ -192,28 +192,44 @@ void Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool 
   }
 }
 
-double Assembler::nonConservativePower(const VecX& q, const VecX& v, const VecX& p) const {
-  // Element by element, and only the elements whose force at v differs from the one at rest
-  // (velocity dependent) or that do external work: the others' terms cancel exactly, and the
-  // energy audit evaluated this at every step as two whole force vectors (9% of the flexible
-  // five-bar's run).
+// Element by element, and only the elements that do external work or whose force at v
+// differs from the one at rest: the others' terms cancel exactly, and the energy audit
+// evaluated this at every step as two whole force vectors (9% of the flexible five-bar's run).
+double Assembler::externalPower(const VecX& q, const VecX& v, const VecX& p) const {
   double P = 0.0;
-  VecX Qv, Q0;
+  VecX Qv;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    const bool external = el.externalWork();
-    if (!external && !el.velocityDependent()) continue;
+    if (!el.externalWork()) continue;
     el.force(elementState(e, q, v, p), Qv);
-    if (!external) {
-      el.force(elementState(e, q, VecX(), p), Q0);
-      Qv -= Q0;
-    }
     if (el.isLoad()) Qv *= loadFactor_;
     const auto& map = elemDofs_[e];
     for (size_t i = 0; i < map.size(); ++i)
       if (map[i] >= 0) P += v[map[i]] * Qv[i];
   }
   return P;
+}
+
+bool Assembler::damped() const {
+  for (const auto& el : model_.elements)
+    if (!el->externalWork() && el->velocityDependent()) return true;
+  return false;
+}
+
+VecX Assembler::dampingForce(const VecX& q, const VecX& v, const VecX& p) const {
+  VecX F = VecX::Zero(q.size()), Qv, Q0;
+  for (size_t e = 0; e < model_.elements.size(); ++e) {
+    const auto& el = *model_.elements[e];
+    if (el.externalWork() || !el.velocityDependent()) continue;
+    el.force(elementState(e, q, v, p), Qv);
+    el.force(elementState(e, q, VecX(), p), Q0);
+    Qv -= Q0;
+    if (el.isLoad()) Qv *= loadFactor_;
+    const auto& map = elemDofs_[e];
+    for (size_t i = 0; i < map.size(); ++i)
+      if (map[i] >= 0) F[map[i]] += Qv[i];
+  }
+  return F;
 }
 
 VecX Assembler::phi(const VecX& q, const VecX& p) const {

@@ -102,10 +102,14 @@ class Assembler {
     elementForces(q, VecX::Zero(q.size()), p, true, Q);
     return Q;
   }
-  /// Power [W] of the forces the potential does not hold, v . (Q(q, v) - conservativeForce):
-  /// dampers and loads that do external work, at time(). With the drivers' lambda^T Phi_t it
-  /// is dE/dt, E = T + V: the energy audit integrates it.
-  double nonConservativePower(const VecX& q, const VecX& v, const VecX& p) const;
+  /// Power [W] of the loads that do external work (externalWork()), v . Q, at time().
+  double externalPower(const VecX& q, const VecX& v, const VecX& p) const;
+  /// The dampers' forces [N]: Q(q, v) - Q(q, 0) of the velocity-dependent elements without
+  /// external work. With externalPower and the drivers' lambda^T Phi_t their power
+  /// v . dampingForce is dE/dt, E = T + V; the energy audit integrates it.
+  VecX dampingForce(const VecX& q, const VecX& v, const VecX& p) const;
+  /// Whether an element has a damping force (dampingForce can be nonzero).
+  bool damped() const;
 
   // --- sparse blocks, added as s * block at (r0, c0) ------------------------------------
   void addMass(SparseAccumulator& acc, const VecX& p, double s, int64_t r0, int64_t c0) const;

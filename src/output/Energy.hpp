@@ -53,24 +53,30 @@ class EnergyMeter {
     }
     return dE;
   }
-  /// dE/dt at x [W]: the non-conservative forces' power and the drivers'. A driver's force
-  /// -Phi_q^T lambda has the power -lambda^T Phi_q v = lambda^T Phi_t (Phi_q v + Phi_t = 0).
-  /// NaN when the model has drivers and x carries no multipliers.
-  double power(const State& x) const {
+  /// The power [W] that is not the dampers': loads doing external work and drivers. A
+  /// driver's force -Phi_q^T lambda has the power -lambda^T Phi_q v = lambda^T Phi_t
+  /// (Phi_q v + Phi_t = 0). NaN when the model has drivers and x carries no multipliers.
+  double externalPower(const State& x) const {
     const double t0 = as_.time();
     as_.setTime(x.t);  // loads and drivers at the state's time; the integrator's time restored
-    double P = as_.nonConservativePower(x.q, x.v, p_);
+    double P = as_.externalPower(x.q, x.v, p_);
     if (as_.rheonomic())
       P = x.lambda.size() == as_.m() ? P + x.lambda.dot(as_.phiT(x.q, p_)) : std::nan("");
     as_.setTime(t0);
     return P;
   }
+  bool damped() const { return damped_; }
+  /// The dampers' forces at x [N] (their power is v . dampingForce).
+  VecX dampingForce(const State& x) const { return as_.dampingForce(x.q, x.v, p_); }
+  /// dE/dt at x [W]: the dampers', the loads' doing external work and the drivers' power.
+  double power(const State& x) const { return externalPower(x) + x.v.dot(dampingForce(x)); }
 
  private:
   const Assembler& as_;
   VecX p_;
   SpMat M_;
   double massTrace_ = 0.0;
+  bool damped_ = as_.damped();
 };
 
 }  // namespace flexsens
