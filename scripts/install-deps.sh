@@ -5,7 +5,8 @@ PACKAGES=(
   g++ cmake ninja-build              # toolchain
   ccache                             # rebuilds of unchanged sources are cache hits
   libeigen3-dev                      # dense/sparse linear algebra
-  libsuitesparse-dev                 # KLU sparse LU
+  libsuitesparse-dev                 # KLU sparse LU, CHOLMOD sparse Cholesky
+  libopenblas0-serial                # BLAS of CHOLMOD's supernodes (faster than the reference BLAS)
   libsundials-dev                    # IDAS (+ nvecserial, sunmatrixsparse, sunlinsolklu)
   libgmsh-dev                        # Gmsh SDK (geometry -> node chains)
   libseccomp-dev                     # system-call filter of the sandboxed Gmsh child

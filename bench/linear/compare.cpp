@@ -7,6 +7,7 @@
 //
 // The first N_COORDINATES unknowns are coordinates, the rest Lagrange multipliers.
 #include <amd.h>
+#include <cholmod.h>
 #include <klu.h>
 #include <umfpack.h>
 
@@ -128,6 +129,56 @@ Row eigenSuperLU(const SpMat& A64, const Vec& b) {
   return row;
 }
 
+// CHOLMOD's Cholesky of the lower triangle (the matrix is symmetric when it has no
+// constraint rows); `ordering` CHOLMOD_AMD or CHOLMOD_METIS, `supernodal` CHOLMOD_SUPERNODAL
+// or CHOLMOD_SIMPLICIAL. fill = 2 nnz(L) / nnz(A), comparable with the LU rows' nnz(L+U).
+Row cholmod(const SpMat& A, const Vec& b, const std::string& name, int ordering, int supernodal) {
+  Row row{name};
+  cholmod_common c;
+  cholmod_l_start(&c);
+  c.nmethods = 1;
+  c.method[0].ordering = ordering;
+  c.postorder = 1;
+  c.supernodal = supernodal;
+  SpMat lower = A.triangularView<Eigen::Lower>();
+  lower.makeCompressed();
+  cholmod_sparse As{};
+  As.nrow = As.ncol = A.rows();
+  As.nzmax = lower.nonZeros();
+  As.p = lower.outerIndexPtr();
+  As.i = lower.innerIndexPtr();
+  As.x = lower.valuePtr();
+  As.stype = -1;
+  As.itype = CHOLMOD_LONG;
+  As.xtype = CHOLMOD_REAL;
+  As.dtype = CHOLMOD_DOUBLE;
+  As.sorted = 1;
+  As.packed = 1;
+  cholmod_factor* L = nullptr;
+  row.analyse = seconds([&] {
+    if (L) cholmod_l_free_factor(&L, &c);
+    L = cholmod_l_analyze(&As, &c);
+  }, 1);
+  row.factor = seconds([&] { cholmod_l_factorize(&As, L, &c); }, 5);
+  row.refactor = row.factor;
+  if (c.status != CHOLMOD_OK || size_t(L->minor) < size_t(A.rows())) {  // minor < n: not positive definite
+    row.fill = -1;
+  } else {
+    row.fill = 2.0 * c.lnz / A.nonZeros();
+    cholmod_dense* B = cholmod_l_zeros(A.rows(), 1, CHOLMOD_REAL, &c);
+    std::copy(b.data(), b.data() + b.size(), static_cast<double*>(B->x));
+    cholmod_dense* X = cholmod_l_solve(CHOLMOD_A, L, B, &c);
+    Vec x = Eigen::Map<Vec>(static_cast<double*>(X->x), A.rows());
+    row.residual = residual(A, x, b);
+    row.rcond = cholmod_l_rcond(L, &c);
+    cholmod_l_free_dense(&X, &c);
+    cholmod_l_free_dense(&B, &c);
+  }
+  cholmod_l_free_factor(&L, &c);
+  cholmod_l_finish(&c);
+  return row;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -148,6 +199,11 @@ int main(int argc, char** argv) {
       umfpack(A, b),
       eigenSuperLU(A, b),
   };
+  if (ncoord == A.rows()) {  // no constraint rows: symmetric positive definite in these models
+    rows.push_back(cholmod(A, b, "CHOLMOD supernodal, AMD", CHOLMOD_AMD, CHOLMOD_SUPERNODAL));
+    rows.push_back(cholmod(A, b, "CHOLMOD supernodal, METIS", CHOLMOD_METIS, CHOLMOD_SUPERNODAL));
+    rows.push_back(cholmod(A, b, "CHOLMOD simplicial, AMD", CHOLMOD_AMD, CHOLMOD_SIMPLICIAL));
+  }
   std::printf("| solver | nnz(L+U)/nnz(A) | predicted | off-diagonal pivots | analyse [ms] | factor [ms] | refactor [ms] | residual | rcond |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows)

@@ -37,6 +37,7 @@ void add(IntegratorStats& a, const IntegratorStats& b) {
   a.convergenceFailures += b.convergenceFailures;
   a.acceleratedIterations += b.acceleratedIterations;
   a.luFill = std::max(a.luFill, b.luFill);
+  a.choleskyFactorizations += b.choleskyFactorizations;
   a.factorizationSeconds += b.factorizationSeconds;
 }
 

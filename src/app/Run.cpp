@@ -206,6 +206,7 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
      << ", \"jacobian_evaluations\": " << st.jacobianEvaluations << ", \"error_test_failures\": "
      << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures
      << ", \"accelerated_iterations\": " << st.acceleratedIterations << ", \"lu_fill\": " << jsonNumber(st.luFill)
+     << ", \"cholesky_factorizations\": " << st.choleskyFactorizations
      << ", \"factorization_seconds\": " << jsonNumber(st.factorizationSeconds) << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
   js << "  \"energy\": " << energy << ",\n";

@@ -60,6 +60,31 @@ void SparseLU::factor(const SpMat& A, const std::string& what) {
 void SparseLU::factor(const SpMat& A, const std::function<std::string()>& what) {
   if (!A.isCompressed()) throw std::logic_error("SparseLU::factor needs a compressed matrix");
   dumpIfAsked(A, count_);
+  // A, for solve()'s refinement (values only when the pattern is the last one)
+  if (samePattern(A, matrix_)) std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), matrix_.valuePtr());
+  else matrix_ = A;
+  const auto start = std::chrono::steady_clock::now();
+  const bool cholesky = factorCholesky(A);
+  if (!cholesky) factorLU(A, what);  // throws NumericalError for a singular A
+  ++count_;
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double nnzFactor = cholesky ? 2.0 * cholesky_->nnzL() - double(A.rows())
+                                    : double(numeric_->lnz + numeric_->unz - A.rows());
+  fill_ = nnzFactor / double(std::max<Eigen::Index>(1, A.nonZeros()));
+  maxFill_ = std::max(maxFill_, fill_);
+}
+
+// Cholesky when A is symmetric with a positive diagonal and turns out positive definite.
+bool SparseLU::factorCholesky(const SpMat& A) {
+  cholesky_ = nullptr;
+  if (!choleskyOwner_->symmetric(A) || !choleskyOwner_->factor(A)) return false;
+  cholesky_ = choleskyOwner_.get();
+  ++choleskyCount_;
+  factorFlops_ = cholesky_->flops();
+  return true;
+}
+
+void SparseLU::factorLU(const SpMat& A, const std::function<std::string()>& what) {
   auto* Ap = const_cast<int64_t*>(A.outerIndexPtr());
   auto* Ai = const_cast<int64_t*>(A.innerIndexPtr());
   auto* Ax = const_cast<double*>(A.valuePtr());
@@ -80,8 +105,6 @@ void SparseLU::factor(const SpMat& A, const std::function<std::string()>& what) 
     common_.rcond = 1.0 / common_.condest;
     return common_.condest < 1e15;
   };
-  std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), pattern_.valuePtr());  // A, for solve()
-  const auto start = std::chrono::steady_clock::now();
   bool ok;
   if (numeric_) {
     ok = klu_l_refactor(Ap, Ai, Ax, symbolic_, numeric_, &common_) == 1 &&
@@ -95,67 +118,75 @@ void SparseLU::factor(const SpMat& A, const std::function<std::string()>& what) 
     ok = numeric_ && common_.status == KLU_OK && conditioned(1e-16);
     if (numeric_ && klu_l_flops(symbolic_, numeric_, &common_)) factorFlops_ = common_.flops;
   }
-  ++count_;
-  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (numeric_) {
-    fill_ = double(numeric_->lnz + numeric_->unz - A.rows()) / double(std::max<Eigen::Index>(1, A.nonZeros()));
-    maxFill_ = std::max(maxFill_, fill_);
-  }
   if (!ok || common_.status == KLU_SINGULAR) {
     std::ostringstream os;
     os << "the " << what() << " is singular or nearly so (KLU status " << common_.status
        << ", reciprocal condition estimate " << (numeric_ ? common_.rcond : 0.0) << ")";
     if (numeric_) klu_l_free_numeric(&numeric_, &common_);
+    ++count_;
     throw NumericalError(os.str());
   }
 }
 
+double SparseLU::solveFlops() const {
+  if (cholesky_) return 4.0 * cholesky_->nnzL();  // L and L^T, a multiply and an add each
+  return numeric_ ? 2.0 * double(numeric_->lnz + numeric_->unz) : 0.0;
+}
+
 void SparseLU::solve(MatX& b, bool refine) const {
-  if (!numeric_) throw std::logic_error("SparseLU::solve before factor");
+  if (!factorized()) throw std::logic_error("SparseLU::solve before factor");
   if (!refine) {
-    klu_l_solve(symbolic_, numeric_, b.rows(), b.cols(), b.data(), &common_);
+    plainSolve(b);
     return;
   }
-  // Workspaces kept across calls (a small model's solves were mostly allocations).
+  this->refine(b);
+}
+
+void SparseLU::plainSolve(MatX& b) const {
+  if (cholesky_) cholesky_->solve(b);
+  else klu_l_solve(symbolic_, numeric_, b.rows(), b.cols(), b.data(), &common_);
+}
+
+// Iterative refinement, up to twice, while the componentwise backward error
+// max_i |b - A x|_i / (|A| |x| + |b|)_i is above kRefineAbove (componentwise: the constraint
+// rows are ~1e6 times smaller than the dynamic rows M/(beta h^2), so a normwise measure would
+// not see their error). The saddle-point ordering pivots on the diagonal; near a singular
+// Phi_q (a mechanism at its toggle) a multiplier's Schur pivot is small and a plain solve can
+// lose digits there; refined, the backward error stays at round-off (test_sparse_lu: 1.6e-16
+// as two constraint rows become parallel). An accurate solve costs one pass over A for all
+// right-hand sides together: x and r are held row-major, so that each entry of A meets the
+// row of every column in one cache line (a pass per column was 22% of a ten-parameter run).
+void SparseLU::refine(MatX& b) const {
   MatX& x = x_;
-  MatX& r = r_;
-  MatX& scale = scale_;
   x = b;
-  klu_l_solve(symbolic_, numeric_, x.rows(), x.cols(), x.data(), &common_);
-  // Iterative refinement, up to twice, while the componentwise backward error
-  // max_i |b - A x|_i / (|A| |x| + |b|)_i is above kRefineAbove (componentwise: the constraint
-  // rows are ~1e6 times smaller than the dynamic rows M/(beta h^2), so a normwise measure
-  // would not see their error). The saddle-point ordering pivots on the diagonal; near a
-  // singular Phi_q (a mechanism at its toggle) a multiplier's Schur pivot is small and a plain
-  // solve can lose digits there; refined, the backward error stays at round-off
-  // (test_sparse_lu: 1.6e-16 as two constraint rows become parallel). An accurate solve costs
-  // one pass over A.
-  const auto* outer = pattern_.outerIndexPtr();
-  const auto* inner = pattern_.innerIndexPtr();
-  const double* value = pattern_.valuePtr();
+  plainSolve(x);
+  const auto* outer = matrix_.outerIndexPtr();
+  const auto* inner = matrix_.innerIndexPtr();
+  const double* value = matrix_.valuePtr();
+  const Eigen::Index k = b.cols();
   for (int pass = 0; pass < 2; ++pass) {
-    r = b;  // r = b - A x, scale = |A| |x| + |b|
-    scale = b.cwiseAbs();
-    for (Eigen::Index c = 0; c < x.cols(); ++c) {  // over A's arrays (the iterator cost 2x here)
-      const double* xc = x.col(c).data();
-      double* rc = r.col(c).data();
-      double* sc = scale.col(c).data();
-      for (Eigen::Index j = 0; j < pattern_.outerSize(); ++j) {
-        const double xj = xc[j];
-        if (xj == 0.0) continue;
-        for (auto k = outer[j]; k < outer[j + 1]; ++k) {
-          const double t = value[k] * xj;
-          rc[inner[k]] -= t;
-          sc[inner[k]] += std::abs(t);
+    xRows_ = x;        // row-major copies: row j holds x(j, 0..k-1)
+    rRows_ = b;        // r = b - A x
+    scaleRows_ = b.cwiseAbs();  // |A| |x| + |b|
+    for (Eigen::Index j = 0; j < matrix_.outerSize(); ++j) {
+      const double* xj = xRows_.row(j).data();
+      for (auto e = outer[j]; e < outer[j + 1]; ++e) {
+        double* ri = rRows_.row(inner[e]).data();
+        double* si = scaleRows_.row(inner[e]).data();
+        for (Eigen::Index c = 0; c < k; ++c) {
+          const double t = value[e] * xj[c];
+          ri[c] -= t;
+          si[c] += std::abs(t);
         }
       }
     }
     double omega = 0.0;
-    for (Eigen::Index c = 0; c < x.cols(); ++c)
-      for (Eigen::Index i = 0; i < x.rows(); ++i)
-        if (r(i, c) != 0.0) omega = std::max(omega, std::abs(r(i, c)) / scale(i, c));
+    for (Eigen::Index i = 0; i < rRows_.rows(); ++i)
+      for (Eigen::Index c = 0; c < k; ++c)
+        if (rRows_(i, c) != 0.0) omega = std::max(omega, std::abs(rRows_(i, c)) / scaleRows_(i, c));
     if (omega <= kRefineAbove) break;
-    klu_l_solve(symbolic_, numeric_, r.rows(), r.cols(), r.data(), &common_);
+    MatX r = rRows_;
+    plainSolve(r);
     x += r;
   }
   b = x;
@@ -168,6 +199,6 @@ VecX SparseLU::solve(const VecX& b, bool refine) const {
   return x.col(0);
 }
 
-double SparseLU::rcond() const { return common_.rcond; }
+double SparseLU::rcond() const { return cholesky_ ? cholesky_->rcond() : common_.rcond; }
 
 }  // namespace flexsens

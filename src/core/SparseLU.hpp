@@ -1,3 +1,8 @@
+// The Newton matrices' direct solver. A matrix that is symmetric with a positive diagonal (a
+// meshed body without constraint rows) is tried with CHOLMOD's supernodal Cholesky
+// (core/CholeskyFactor) and taken there when it is positive definite; every other matrix, and
+// one that is not, goes to KLU. The solve, its refinement and the counters are the same for both.
+//
 // Sparse LU through SuiteSparse KLU (64-bit index routines) in the saddle-point ordering
 // (core/SaddlePointOrdering: multipliers after their coordinates) with a small pivot tolerance,
 // so that KLU keeps the diagonal pivots the ordering was made for. The symbolic analysis is
@@ -9,8 +14,10 @@
 #include <klu.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "core/CholeskyFactor.hpp"
 #include "core/Types.hpp"
 
 namespace flexsens {
@@ -52,17 +59,29 @@ class SparseLU {
   /// and an add per entry of L and U) [flops]: machine-independent costs, for choosing between
   /// factoring a matrix and iterating with this factorization.
   double factorFlops() const { return factorFlops_; }
-  double solveFlops() const { return numeric_ ? 2.0 * double(numeric_->lnz + numeric_->unz) : 0.0; }
+  double solveFlops() const;
   /// A factorization is held (false before the first and after one that failed).
-  bool factorized() const { return numeric_ != nullptr; }
+  bool factorized() const { return cholesky_ ? cholesky_->factorized() : numeric_ != nullptr; }
+  /// Factorizations done by Cholesky (the rest, factorizations() - this, by KLU).
+  long choleskyFactorizations() const { return choleskyCount_; }
 
  private:
   void release();
+  bool factorCholesky(const SpMat& A);
+  void factorLU(const SpMat& A, const std::function<std::string()>& what);
+  void refine(MatX& b) const;
+  std::unique_ptr<CholeskyFactor> choleskyOwner_ = std::make_unique<CholeskyFactor>();
+  CholeskyFactor* cholesky_ = nullptr;  ///< choleskyOwner_ when the last factorization is its
+  long choleskyCount_ = 0;
   mutable klu_l_common common_;
   klu_l_symbolic* symbolic_ = nullptr;
   klu_l_numeric* numeric_ = nullptr;
-  SpMat pattern_;  ///< the matrix factorized last (its structure is the one analysed)
-  mutable MatX b_, x_, r_, scale_;  ///< solve()'s workspaces (one thread, like common_)
+  void plainSolve(MatX& b) const;
+  SpMat pattern_;  ///< KLU's analysed structure
+  SpMat matrix_;   ///< the matrix factorized last (solve() refines against it)
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  mutable MatX b_, x_;                         ///< solve()'s workspaces (one thread, like common_)
+  mutable RowMajor xRows_, rRows_, scaleRows_;  ///< refine()'s, row-major
   long count_ = 0;
   double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0, factorFlops_ = 0.0;
 };

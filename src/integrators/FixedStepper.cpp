@@ -116,6 +116,7 @@ void FixedStepper::finishStep(State&& next) {
       std::max(st_.maxConstraintViolation, as_.phi(cur_.x.q, p_).lpNorm<Eigen::Infinity>());
   st_.factorizations = newton_.lu().factorizations();
   st_.luFill = newton_.lu().maxFill();
+  st_.choleskyFactorizations = newton_.lu().choleskyFactorizations();
   st_.factorizationSeconds = newton_.lu().factorSeconds();
 }
 

@@ -478,6 +478,7 @@ void IdasStepper::Impl::readCounters() {
   st.newtonIterations = counter(IDAGetNumNonlinSolvIters, "IDAGetNumNonlinSolvIters");
   st.factorizations = counter(IDAGetNumLinSolvSetups, "IDAGetNumLinSolvSetups");
   st.luFill = lu.maxFill();
+  st.choleskyFactorizations = lu.choleskyFactorizations();
   st.factorizationSeconds = lu.factorSeconds();
   st.residualEvaluations = counter(IDAGetNumResEvals, "IDAGetNumResEvals");
   st.jacobianEvaluations = counter(IDAGetNumJacEvals, "IDAGetNumJacEvals");

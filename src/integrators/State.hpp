@@ -41,6 +41,7 @@ struct IntegratorStats {
   long acceleratedIterations = 0;  ///< fixed step, modified Newton: iterations with an Anderson-accelerated step
   double maxConstraintViolation = 0.0;  ///< max over frames of |Phi|_inf
   double luFill = 0.0;                  ///< largest nnz(L + U) / nnz(A) of the step matrices
+  long choleskyFactorizations = 0;      ///< of the factorizations, those by Cholesky (core/SparseLU)
   double factorizationSeconds = 0.0;    ///< wall time in numeric factorizations [s]
 };
 
