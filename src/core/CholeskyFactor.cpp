@@ -97,11 +97,13 @@ bool CholeskyFactor::symmetric(const SpMat& A) {
   for (int64_t j = 0; j < A.cols(); ++j)
     for (int64_t k = outer[j]; k < outer[j + 1]; ++k)
       if (inner[k] == j) diagonal[size_t(j)] = a[k];
-  for (double d : diagonal)
+  for (double& d : diagonal) {
     if (!(d > 0.0)) return false;  // a multiplier's zero pivot, or not positive definite
+    d = std::sqrt(d);
+  }
   for (int64_t j = 0; j < A.cols(); ++j)
     for (int64_t k = outer[j]; k < outer[j + 1]; ++k) {
-      const double scale = std::sqrt(std::abs(diagonal[size_t(inner[k])] * diagonal[size_t(j)]));
+      const double scale = diagonal[size_t(inner[k])] * diagonal[size_t(j)];
       if (!(std::abs(a[k] - a[transposeOf_[size_t(k)]]) <= kSymmetryTolerance * scale)) return false;
     }
   return true;

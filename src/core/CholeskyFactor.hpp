@@ -2,8 +2,8 @@
 // ordering, CHOLMOD's own choice of supernodal or simplicial), for the Newton matrices that
 // are symmetric positive definite: M/(beta h^2) + K of bodies without constraint rows (a meshed
 // body held by grounded nodes). CHOLMOD's supernodes run the dense blocks through BLAS; on the
-// solid pendulum's Newton matrix at n = 11265 one factorization takes 163 ms against KLU's
-// 467 ms refactorization (bench/linear/results.md). SparseLU decides when to use it.
+// solid pendulum's Newton matrix at n = 11265 one factorization takes 74 ms against KLU's
+// 534 ms refactorization (bench/linear/results.md). SparseLU decides when to use it.
 #pragma once
 
 #include <cholmod.h>

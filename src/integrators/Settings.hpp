@@ -19,7 +19,8 @@ struct IntegratorSettings {
   /// Fixed-step Newton: "full" factorizes the Newton matrix at every iteration; "modified"
   /// keeps the factorization across iterations and steps and refreshes it when the iteration
   /// contracts slowly. Full is the default: modified leaves an error of up to the tolerance
-  /// where full Newton's quadratic convergence leaves round-off (see README).
+  /// where full Newton's quadratic convergence leaves round-off (see README); a scene with a
+  /// meshed body and no `newton` key gets modified (scene/SceneReader: hasMeshedBody).
   std::string newton = "full";
   /// Trapezoidal rule and generalized-alpha: project each step's velocities and accelerations
   /// onto the velocity and acceleration constraints (integrators/MotionProjection.hpp). Off by
