@@ -12,7 +12,7 @@ namespace flexsens {
 
 // ------------------------------------------------------------------ run
 std::vector<RunCase> prepareRun(const RunRequest& request) {
-  Scene base = readScene(request.scenePath);
+  Scene base = readScene(request.scenePath, "", request.parameterValues);
   base.requireDynamics();
   std::vector<std::string> names = request.cases;
   if (names.empty()) names = base.caseNames;
@@ -22,7 +22,8 @@ std::vector<RunCase> prepareRun(const RunRequest& request) {
                      "use `flexsens static`, or add an integrator to run it)");
   std::vector<RunCase> cases;
   for (const auto& name : names) {
-    cases.push_back({request.scenePath, name, name.empty() ? std::move(base) : readScene(request.scenePath, name), ""});
+    Scene sc = name.empty() ? std::move(base) : readScene(request.scenePath, name, request.parameterValues);
+    cases.push_back({request.scenePath, name, std::move(sc), ""});
     applyOptions(cases.back().scene, request.options);
     cases.back().directory = cases.back().scene.output.directory + (name.empty() ? "" : "/" + name);
   }
@@ -56,7 +57,7 @@ RunCommandResult runCommand(const RunRequest& request,
 
 // ------------------------------------------------------------------ static
 StaticCommandResult staticCommand(const StaticRequest& request) {
-  Scene sc = readScene(request.scenePath);
+  Scene sc = readScene(request.scenePath, "", request.parameterValues);
   if (request.loadSteps) {
     if (*request.loadSteps < 1 || *request.loadSteps > 100000)
       throw InputError("option --load-steps: expected 1 to 100000");
@@ -67,6 +68,7 @@ StaticCommandResult staticCommand(const StaticRequest& request) {
       throw InputError("option --method: static sensitivities are dd or ad, got '" + request.method + "'");
     sc.sensitivity.method = request.method;
   }
+  if (!request.frames) sc.output.vtk = false;
   StaticCommandResult out;
   // Beside the run's directory, not inside it: a rerun replaces its directory whole.
   out.directory = request.outDir.empty() ? sc.output.directory + "-static" : request.outDir;

@@ -28,6 +28,7 @@ struct RunRequest {
   std::string scenePath;
   RunOptions options;
   std::vector<std::string> cases;  ///< PIM cases to run; empty: every case of the scene
+  ParameterValues parameterValues;  ///< parameters set to these values (a sweep's sample)
 };
 
 /// One case of a run, read and validated, with the directory its results go to.
@@ -61,6 +62,8 @@ struct StaticRequest {
   std::string outDir;             ///< empty: <output.directory>-static
   std::optional<int> loadSteps;   ///< empty: the scene's static.load_steps
   std::string method;             ///< dd | ad; empty: the scene's
+  ParameterValues parameterValues;  ///< parameters set to these values (a sweep's sample)
+  bool frames = true;               ///< false: no VTK frames whatever the scene says
 };
 
 struct StaticCommandResult {
