@@ -138,7 +138,7 @@ int SweepResult::status() const {
 
 SweepResult sweepCommand(const SweepRequest& request) {
   const auto t0 = std::chrono::steady_clock::now();
-  const RankSession session("sweep");
+  RankSession session("sweep");
   std::unique_ptr<RunDirectory> dir;
   SweepPlan plan;
   try {

@@ -58,7 +58,7 @@ RankSession::RankSession(const std::string&) {
 }
 
 RankSession::~RankSession() {
-  if (!initialized_) return;
+  if (!initialized_ || abandoned_) return;
   MPI_Finalize();
   gInitialized = false;
 }

@@ -25,9 +25,13 @@ class RankSession {
   int size() const { return size_; }
   /// More than one rank: the command spreads its work.
   bool spread() const { return size_ > 1; }
+  /// A rank was lost: end without MPI_Finalize, which would wait for it forever (mpirun
+  /// --enable-recovery lets the job end when every rank has exited).
+  void abandon() { abandoned_ = true; }
+  bool abandoned() const { return abandoned_; }
 
  private:
-  bool initialized_ = false;
+  bool initialized_ = false, abandoned_ = false;
   int rank_ = 0, size_ = 1;
 };
 

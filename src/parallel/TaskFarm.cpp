@@ -16,9 +16,13 @@ namespace flexsens {
 
 namespace {
 
-enum Tag { kReady = 1, kResult = 2, kHeartbeat = 3, kLeaving = 4, kTask = 10, kStop = 11 };
+// Worker to rank 0: READY (host, pid), RESULT (an outcome; asks for the next task),
+// HEARTBEAT (while a task runs), LEAVING (stopped by a signal). Rank 0 to a worker: TASK i,
+// NO_MORE (wait for END), ALIVE (while it waits), END ("finalize", or "abandon" when a rank
+// was lost: MPI_Finalize would wait for it forever).
+enum Tag { kReady = 1, kResult = 2, kHeartbeat = 3, kLeaving = 4, kTask = 10, kNoMore = 11, kAlive = 12, kEnd = 13 };
 
-constexpr double kHeartbeatInterval = 1.0;  ///< [s] between a busy worker's heartbeats
+constexpr double kHeartbeatInterval = 1.0;  ///< [s] between a worker's heartbeats, and rank 0's ALIVE
 constexpr double kSendTimeout = 30.0;       ///< [s] for one message to be taken
 
 double now() {
@@ -76,15 +80,15 @@ struct Worker {
   int task = -1;              ///< the task it runs, -1: none
   double assignedAt = 0.0;
   double lastHeard = 0.0;
-  bool stopped = false;       ///< sent STOP
+  bool waiting = false;       ///< told NO_MORE: waits for END
   bool lost = false;
 };
 
 class Master {
  public:
-  Master(const RankSession& s, int count, const std::function<std::string(int)>& work,
+  Master(RankSession& s, int count, const std::function<std::string(int)>& work,
          const std::function<void(const TaskOutcome&)>& done, const FarmOptions& opt)
-      : count_(count), work_(work), done_(done), opt_(opt) {
+      : session_(s), count_(count), work_(work), done_(done), opt_(opt) {
     summary_.ranks = s.size();
     for (int r = 1; r < s.size(); ++r) {
       Worker w;
@@ -106,8 +110,10 @@ class Master {
   void lose(Worker& w, const std::string& why);
   void end(const TaskOutcome& o, double assignedAt);
   void interrupt(int sig);
-  void stopIdleWorkers();
+  void reassureWaiting();
+  void endWorkers();
 
+  RankSession& session_;
   const int count_;
   const std::function<std::string(int)>& work_;
   const std::function<void(const TaskOutcome&)>& done_;
@@ -120,6 +126,7 @@ class Master {
   double localAssignedAt_ = 0.0;
   double overheadSum_ = 0.0;
   int overheadCount_ = 0;
+  double lastAlive_ = 0.0;
 };
 
 FarmSummary Master::run() {
@@ -131,8 +138,9 @@ FarmSummary Master::run() {
     runLocal();
     drainMessages();
     loseSilentWorkers();
+    reassureWaiting();
   }
-  stopIdleWorkers();
+  endWorkers();
   if (overheadCount_) summary_.overheadPerTask = overheadSum_ / overheadCount_;
   return summary_;
 }
@@ -190,8 +198,8 @@ void Master::handle(Worker& w, int tag, const std::string& bytes) {
 
 void Master::assign(Worker& w) {
   if (next_ >= count_ || interruptSignal()) {
-    w.stopped = true;
-    ranks::send(w.rank, kStop, "", kSendTimeout);
+    w.waiting = true;
+    ranks::send(w.rank, kNoMore, "", kSendTimeout);
     return;
   }
   w.task = next_++;
@@ -211,6 +219,7 @@ void Master::loseSilentWorkers() {
 
 void Master::lose(Worker& w, const std::string& why) {
   w.lost = true;
+  session_.abandon();  // MPI_Finalize would wait for the lost rank
   summary_.lostRanks.push_back(w.name + ": " + why);
   if (w.task < 0) return;
   TaskOutcome o;
@@ -232,6 +241,9 @@ void Master::end(const TaskOutcome& o, double assignedAt) {
 /// Stops everything: the running tasks are killed and reported interrupted.
 void Master::interrupt(int sig) {
   summary_.interruptedBy = sig;
+  // Under mpirun a signal usually means the job is being torn down (Ctrl-C, a rank died):
+  // MPI_Finalize could wait for ranks that are gone, and the launcher kills soon after.
+  session_.abandon();
   const std::string why = "interrupted by " + signalText(sig);
   if (localTask_ >= 0) {
     local_->kill(why);
@@ -252,68 +264,90 @@ void Master::interrupt(int sig) {
   }
 }
 
-/// STOP to every rank still waiting for word (also those never heard from).
-void Master::stopIdleWorkers() {
+/// ALIVE every second to the ranks waiting for END, so that they know rank 0 still runs.
+void Master::reassureWaiting() {
+  if (now() - lastAlive_ < kHeartbeatInterval) return;
+  lastAlive_ = now();
   for (Worker& w : workers_)
-    if (!w.lost && !w.stopped) {
-      w.stopped = true;
-      ranks::send(w.rank, kStop, "", 1.0);
-    }
+    if (w.waiting && !w.lost) ranks::send(w.rank, kAlive, "", 1.0);
+}
+
+/// END to every rank not lost (also those never heard from): finalize together, or abandon
+/// MPI_Finalize when a rank was lost.
+void Master::endWorkers() {
+  const std::string how = session_.abandoned() ? "abandon" : "finalize";
+  for (Worker& w : workers_)
+    if (!w.lost) ranks::send(w.rank, kEnd, how, 1.0);
 }
 
 // ------------------------------------------------------------------ ranks 1..P-1
 class Helper {
  public:
-  Helper(const std::function<std::string(int)>& work, const FarmOptions& opt) : work_(work), opt_(opt) {}
+  Helper(RankSession& s, const std::function<std::string(int)>& work, const FarmOptions& opt)
+      : session_(s), work_(work), opt_(opt) {}
   void run();
 
  private:
-  /// The next task from rank 0; -1 for STOP, an interrupt or rank 0 gone silent.
+  /// The next task from rank 0; -1 when there is none (END received, an interrupt, or rank 0
+  /// silent for ten rank timeouts: gone).
   int nextTask();
   /// Runs it in a child; false when stopped on the way (nothing more to send).
   bool runTask(int index, TaskOutcome& out);
-  /// A word from rank 0 while a task runs: true for STOP.
-  bool stopRequested();
+  /// Reads rank 0's words; true once END came (its "abandon" applied).
+  bool endReceived(int* task = nullptr);
+  void leave(const std::string& why);
 
+  RankSession& session_;
   const std::function<std::string(int)>& work_;
   const FarmOptions& opt_;
+  double lastWord_ = now();
 };
 
 void Helper::run() {
   const std::string me = "host " + ranks::hostName() + ", pid " + std::to_string(::getpid());
-  if (!ranks::send(0, kReady, me, kSendTimeout)) return;
+  if (!ranks::send(0, kReady, me, kSendTimeout)) return leave("");
   for (int index; (index = nextTask()) >= 0;) {
     TaskOutcome out;
     if (!runTask(index, out)) return;
-    if (!ranks::send(0, kResult, packOutcome(out), kSendTimeout)) return;
+    if (!ranks::send(0, kResult, packOutcome(out), kSendTimeout)) return leave("");
   }
+}
+
+void Helper::leave(const std::string& why) {
+  if (!why.empty()) ranks::send(0, kLeaving, why, 1.0);
+  session_.abandon();  // rank 0 counts this rank lost and does not finalize either
+}
+
+bool Helper::endReceived(int* task) {
+  int from = 0, tag = 0;
+  while (ranks::waiting(from, tag)) {
+    const std::string bytes = ranks::receive(from, tag);
+    if (from != 0) continue;
+    lastWord_ = now();
+    if (tag == kEnd) {
+      if (bytes == "abandon") session_.abandon();
+      return true;
+    }
+    if (tag == kTask && task) *task = std::stoi(bytes);
+  }
+  return false;
 }
 
 int Helper::nextTask() {
-  // Rank 0 answers at once unless it is busy writing results; ten rank timeouts of silence
-  // mean it is gone.
-  const double deadline = now() + 10.0 * opt_.rankTimeout;
-  while (now() < deadline) {
-    int from = 0, tag = 0;
-    if (ranks::waiting(from, tag)) {
-      const std::string bytes = ranks::receive(from, tag);
-      if (from != 0) continue;
-      if (tag == kStop) return -1;
-      if (tag == kTask) return std::stoi(bytes);
+  // Rank 0 answers at once (TASK or NO_MORE), then says ALIVE every second until END.
+  for (int task = -1;;) {
+    if (endReceived(&task)) return -1;
+    if (task >= 0) return task;
+    if (const int sig = interruptSignal()) {
+      leave("stopped by " + signalText(sig));
+      return -1;
     }
-    if (interruptSignal()) return -1;
+    if (now() - lastWord_ > 10.0 * opt_.rankTimeout) {
+      session_.abandon();  // rank 0 is gone: nobody to finalize with
+      return -1;
+    }
     pause(0.001);
   }
-  return -1;
-}
-
-bool Helper::stopRequested() {
-  int from = 0, tag = 0;
-  while (ranks::waiting(from, tag)) {
-    ranks::receive(from, tag);
-    if (from == 0 && tag == kStop) return true;
-  }
-  return false;
 }
 
 bool Helper::runTask(int index, TaskOutcome& out) {
@@ -322,14 +356,17 @@ bool Helper::runTask(int index, TaskOutcome& out) {
   while (!child.poll(0.05)) {
     if (const int sig = interruptSignal()) {
       child.kill("interrupted");
-      ranks::send(0, kLeaving, "stopped by " + signalText(sig), 1.0);
+      leave("stopped by " + signalText(sig));
       return false;
     }
-    if (stopRequested()) return false;  // the child is killed with `child`
+    if (endReceived()) return false;  // rank 0 stopped: the child is killed with `child`
     if (opt_.timeLimit > 0 && child.elapsed() > opt_.timeLimit) child.kill(timeLimitText(opt_.timeLimit));
     if (!child.ended() && now() - lastBeat >= kHeartbeatInterval) {
       lastBeat = now();
-      if (!ranks::send(0, kHeartbeat, "", kSendTimeout)) return false;
+      if (!ranks::send(0, kHeartbeat, "", kSendTimeout)) {
+        leave("");
+        return false;
+      }
     }
     if (child.ended()) break;
   }
@@ -339,10 +376,10 @@ bool Helper::runTask(int index, TaskOutcome& out) {
 
 }  // namespace
 
-FarmSummary runTaskFarm(const RankSession& session, int count, const std::function<std::string(int)>& work,
+FarmSummary runTaskFarm(RankSession& session, int count, const std::function<std::string(int)>& work,
                         const std::function<void(const TaskOutcome&)>& done, const FarmOptions& options) {
   if (session.rank() == 0) return Master(session, count, work, done, options).run();
-  Helper(work, options).run();
+  Helper(session, work, options).run();
   FarmSummary s;
   s.ranks = session.size();
   return s;
@@ -350,7 +387,7 @@ FarmSummary runTaskFarm(const RankSession& session, int count, const std::functi
 
 void stopFarmWorkers(const RankSession& session) {
   if (session.rank() != 0) return;
-  for (int r = 1; r < session.size(); ++r) ranks::send(r, kStop, "", 1.0);
+  for (int r = 1; r < session.size(); ++r) ranks::send(r, kEnd, "finalize", 1.0);
 }
 
 }  // namespace flexsens

@@ -12,8 +12,8 @@
 //  - a task's numbers do not depend on the rank or on the tasks that ran before it.
 //
 // Messages (tags in TaskFarm.cpp): a worker says READY (its host and pid), then gets TASK i or
-// STOP; while its child runs it sends HEARTBEAT every second, and at the end RESULT (the
-// outcome), which also asks for the next task.
+// NO_MORE; while its child runs it sends HEARTBEAT every second, and at the end RESULT (the
+// outcome), which also asks for the next task. Rank 0 ends the farm with END to every rank.
 #pragma once
 
 #include <functional>
@@ -54,8 +54,10 @@ struct FarmSummary {
 
 /// Runs on every rank of `session`. `work(i)` runs task i in a child process and returns its
 /// result; on rank 0, `done` sees each task as it ends (in the order they end). Returns on
-/// every rank when all tasks ended or rank 0 was interrupted (the summary is rank 0's).
-FarmSummary runTaskFarm(const RankSession& session, int count, const std::function<std::string(int)>& work,
+/// every rank when all tasks ended or rank 0 was interrupted (the summary is rank 0's). When
+/// a rank was lost, every rank's session is abandoned (no MPI_Finalize: it would wait for
+/// the lost rank).
+FarmSummary runTaskFarm(RankSession& session, int count, const std::function<std::string(int)>& work,
                         const std::function<void(const TaskOutcome&)>& done, const FarmOptions& options);
 
 /// Rank 0, when it cannot go on before handing out any task (its output folder refused):
