@@ -3,6 +3,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/CaseRanks.hpp"
+#include "app/StudyRanks.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "integrators/InitialState.hpp"
@@ -52,7 +54,11 @@ RunCommandResult runCases(const std::vector<RunCase>& cases,
 
 RunCommandResult runCommand(const RunRequest& request,
                             const std::function<void(const RunCase&, const RunResult&)>& caseDone) {
-  return runCases(prepareRun(request), caseDone);
+  RankSession ranks("run");  // one rank unless mpirun or srun started this process
+  std::vector<RunCase> cases = prepareRun(request);
+  if (ranks.spread() && cases.size() > 1) return runCasesOnRanks(ranks, cases, caseDone);
+  if (ranks.rank() != 0) return {};  // one case: rank 0 runs it
+  return runCases(cases, caseDone);
 }
 
 // ------------------------------------------------------------------ static
@@ -160,6 +166,9 @@ std::string checkReport(const CheckResult& r) {
 }
 
 // ------------------------------------------------------------------ study
-std::string studyCommand(const StudyOptions& options) { return runStudy(options); }
+std::string studyCommand(const StudyOptions& options) {
+  RankSession ranks("study");  // one rank unless mpirun or srun started this process
+  return ranks.spread() ? runStudyOnRanks(ranks, options) : runStudy(options);
+}
 
 }  // namespace flexsens

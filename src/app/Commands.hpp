@@ -52,7 +52,8 @@ std::vector<RunCase> prepareRun(const RunRequest& request);
 /// Runs the prepared cases in order; `caseDone` (when given) sees each result as it comes.
 RunCommandResult runCases(const std::vector<RunCase>& cases,
                           const std::function<void(const RunCase&, const RunResult&)>& caseDone = {});
-/// prepareRun then runCases.
+/// prepareRun then runCases; under mpirun with several ranks and cases, the cases spread
+/// over the ranks and rank 0 writes (app/CaseRanks.hpp); other ranks return an empty result.
 RunCommandResult runCommand(const RunRequest& request,
                             const std::function<void(const RunCase&, const RunResult&)>& caseDone = {});
 
@@ -113,7 +114,8 @@ CheckResult checkCommand(const std::string& scenePath);
 std::string checkReport(const CheckResult& r);
 
 // ------------------------------------------------------------------ study
-/// Runs the study (app/Study.hpp); returns the path of its report.
+/// Runs the study (app/Study.hpp); returns the path of its report. Under mpirun the sections
+/// spread over the ranks (app/StudyRanks.hpp); other ranks than 0 return "".
 std::string studyCommand(const StudyOptions& options);
 
 }  // namespace flexsens

@@ -1,5 +1,7 @@
 // prepareSweep (app/Sweep.hpp): the options checked against the scene before anything runs.
+#include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "app/Commands.hpp"
@@ -39,6 +41,29 @@ std::vector<std::string> checkNames(const SweepRequest& req, const Scene& scene,
       throw InputError("option --output: " + req.scenePath + " has no output '" + o + "'; its outputs: " +
                        joined(outputs));
   return req.outputs.empty() ? outputs : req.outputs;
+}
+
+/// Properties that take either sign: gravity, load components and torques, products of
+/// inertia, the constants of time functions. Any other property (a mass, a length, a
+/// stiffness, a modulus) positive in the scene must not be made negative by a sweep: the
+/// scene reader would refuse that value, which the sweep applies after it.
+bool signedProperty(const std::string& boundTo) {
+  static const std::set<std::string> signedNames = {"x", "y", "z", "torque", "Ixy", "Ixz", "Iyz", "amplitude",
+                                                    "omega", "phase", "offset", "value", "slope", "start", "from",
+                                                    "to", "scale"};
+  const size_t dot = boundTo.rfind('.');
+  return boundTo.rfind("gravity.", 0) == 0 || signedNames.count(boundTo.substr(dot + 1));
+}
+
+void checkSigns(const Scene& scene, const SweepDesign& design) {
+  for (const ParameterRange& r : design.ranges)
+    for (const Parameter& p : scene.model->parameters)
+      if (p.name == r.name && p.nominal > 0 && r.low < 0 && !signedProperty(p.boundTo)) {
+        std::ostringstream os;
+        os << "option --parameter: " << r.name << " is " << p.boundTo << ", " << p.nominal
+           << " in the scene; its values must not be negative (the range starts at " << r.low << ")";
+        throw InputError(os.str());
+      }
 }
 
 /// Each --at time must be a frame of the run: series.csv has a row there.
@@ -122,6 +147,7 @@ SweepPlan prepareSweep(const SweepRequest& req) {
   plan.table.scenePath = req.scenePath;
   plan.table.statics = req.statics;
   plan.table.outputs = checkNames(req, nominal, design);
+  checkSigns(nominal, design);
   ParameterValues first;
   for (const ParameterRange& r : design.ranges) first[r.name] = r.low;
   std::vector<std::string> params;

@@ -167,7 +167,7 @@ void addStudy(CLI::App& app, StudyArgs& a) {
 
 int executeStudy(const StudyArgs& a) {
   const std::string report = studyCommand(a.options);  // first: a failed study prints no "written"
-  std::cout << "study report written to " << report << "\n";
+  if (!report.empty()) std::cout << "study report written to " << report << "\n";  // "": not rank 0
   return 0;
 }
 

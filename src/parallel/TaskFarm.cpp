@@ -68,7 +68,7 @@ TaskOutcome childOutcome(int index, const ChildTask& child, int rank) {
 
 std::string timeLimitText(double limit) {
   std::ostringstream os;
-  os << "exceeded the time limit of " << limit << " s per task and was killed";
+  os << "exceeded the time limit of " << limit << " s and was killed";
   return os.str();
 }
 
