@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Speedup of `flexsens sweep` over MPI ranks and the scheduler's cost per sample.
+
+  python3 bench/sweep/bench.py [--exe build/flexsens] [--ranks 2] [--repeats 3]
+
+1. The 40-sample sweep of the flexible five-bar (case F5, the natural length of spring B-1
+   over 40 values, 5 s with the trapezoidal rule, dt = 1 ms) under `mpirun -np P` for
+   P = 1 .. --ranks, best wall time of --repeats (the orders interleaved), against the same
+   sweep without mpirun; the tables of every P must be identical byte for byte.
+2. The scheduler's cost per sample: a 200-sample sweep of one-step runs of
+   tests/scenes/sweep/oscillator.yaml, where almost all of a sample is the scheduling itself;
+   sweep.json's scheduling_overhead_per_sample_s (rank 0's time from handing a sample out to
+   holding its row, less the sample's own run time in its process).
+Writes bench/sweep/results.md and results.csv. Measure on a quiet machine: the load average
+is recorded and a warning printed above 0.3 per core.
+"""
+import argparse
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SRC = os.path.dirname(os.path.dirname(HERE))
+MPIRUN = ["mpirun", "--allow-run-as-root", "--oversubscribe"]
+FIVEBAR = ["examples/fivebar/flexible.yaml", "--case", "F5", "--parameter", "L_B1=2.18:2.29:40", "--no-plots"]
+ONE_STEP = ["tests/scenes/sweep/oscillator.yaml", "--parameter", "k=40:60:200", "--t-end", "0.001", "--no-plots"]
+
+
+def sweep(exe, args, out, ranks):
+    """Wall time [s] of one sweep (0 ranks: without mpirun) and its sweep.json."""
+    cmd = ([] if ranks == 0 else MPIRUN + ["-np", str(ranks)]) + [exe, "sweep"] + args + ["--out", out]
+    t0 = time.perf_counter()
+    r = subprocess.run(cmd, cwd=SRC, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wall = time.perf_counter() - t0
+    if r.returncode != 0:
+        sys.exit(f"bench: {' '.join(cmd)} exited {r.returncode}:\n{r.stderr[-2000:]}")
+    with open(os.path.join(out, "sweep.json")) as f:
+        return wall, json.load(f)
+
+
+def speedup(exe, ranks, repeats, tmp):
+    """Best wall time per rank count (0: no mpirun), each table checked against P = 1."""
+    best, tables = {}, {}
+    for rep in range(repeats):
+        order = list(range(ranks + 1)) if rep % 2 == 0 else list(range(ranks, -1, -1))
+        for p in order:
+            out = os.path.join(tmp, f"np{p}_{rep}")
+            wall, meta = sweep(exe, FIVEBAR, out, p)
+            best[p] = min(best.get(p, 1e300), wall)
+            with open(os.path.join(out, "sweep.csv")) as f:
+                tables.setdefault(p, f.read())
+            assert meta["statuses"]["complete"] == list(range(40)), meta["statuses"]
+    identical = all(tables[p] == tables[1] for p in tables)
+    return best, identical
+
+
+def overhead(exe, ranks, tmp):
+    rows = {}
+    for p in range(1, ranks + 1):
+        wall, meta = sweep(exe, ONE_STEP, os.path.join(tmp, f"one_step_np{p}"), p)
+        run = sum(r["seconds"] for r in meta["rows"]) / len(meta["rows"])
+        rows[p] = (meta["scheduling_overhead_per_sample_s"], run, wall)
+    return rows
+
+
+def report(best, identical, over, load, ranks):
+    cpu = "?"
+    if os.path.exists("/proc/cpuinfo"):
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=SRC, capture_output=True, text=True).stdout.strip()
+    lines = [
+        "# flexsens sweep over MPI ranks",
+        "",
+        f"Measured by `python3 bench/sweep/bench.py` at commit {commit} on {os.cpu_count()} cores ({cpu}), "
+        f"OpenMPI `mpirun --oversubscribe`, {platform.system()} {platform.release()}; load average before: "
+        f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f}.",
+        "",
+        "## Speedup: 40 samples of the flexible five-bar",
+        "",
+        "`flexsens sweep examples/fivebar/flexible.yaml --case F5 --parameter L_B1=2.18:2.29:40` "
+        "(5 s, trapezoidal, dt = 1 ms), best wall time of the repeats, mpirun's start included.",
+        "",
+        "| ranks | wall [s] | speedup over 1 rank | efficiency |",
+        "|---|---|---|---|",
+        f"| no mpirun | {best[0]:.2f} | {best[1] / best[0]:.2f} | - |",
+    ]
+    for p in range(1, ranks + 1):
+        lines.append(f"| {p} | {best[p]:.2f} | {best[1] / best[p]:.2f} | {best[1] / best[p] / p:.0%} |")
+    lines += [
+        "",
+        f"Tables (sweep.csv) of every rank count identical byte for byte: {'yes' if identical else 'NO'}.",
+        "",
+        "## The scheduler's cost per sample",
+        "",
+        "200 one-step runs of tests/scenes/sweep/oscillator.yaml: rank 0's time from handing a sample out "
+        "to holding its row, less the sample's own run time in its process (fork, pipe, MPI messages, polling).",
+        "",
+        "| ranks | overhead per sample [ms] | a one-step sample's run [ms] | wall of 200 [s] |",
+        "|---|---|---|---|",
+    ]
+    for p, (o, run, wall) in over.items():
+        lines.append(f"| {p} | {o * 1e3:.2f} | {run * 1e3:.1f} | {wall:.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--exe", default=os.path.join(SRC, "build", "flexsens"))
+    ap.add_argument("--ranks", type=int, default=os.cpu_count())
+    ap.add_argument("--repeats", type=int, default=3)
+    a = ap.parse_args()
+    load = os.getloadavg()
+    if load[0] > 0.3 * os.cpu_count():
+        print(f"bench: warning: load average {load[0]:.2f} on {os.cpu_count()} cores; the speedup will be low",
+              file=sys.stderr)
+    tmp = tempfile.mkdtemp(prefix="flexsens-bench-sweep-")
+    try:
+        best, identical = speedup(os.path.abspath(a.exe), a.ranks, a.repeats, tmp)
+        over = overhead(os.path.abspath(a.exe), a.ranks, tmp)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    text = report(best, identical, over, load, a.ranks)
+    with open(os.path.join(HERE, "results.md"), "w") as f:
+        f.write(text)
+    with open(os.path.join(HERE, "results.csv"), "w") as f:
+        f.write("ranks,wall_s,overhead_per_sample_s\n")
+        for p in range(0, a.ranks + 1):
+            f.write(f"{p},{best[p]:.4f},{over[p][0]:.6f}\n" if p in over else f"{p},{best[p]:.4f},\n")
+    print(text)
+    return 0 if identical else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
