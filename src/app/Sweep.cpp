@@ -114,6 +114,16 @@ std::string drawPlots(const std::string& folder) {
   return "";
 }
 
+/// OpenMPI's mpirun ends the whole job when a rank dies unless --enable-recovery is given
+/// (it then sets OMPI_MCA_orte_enable_recovery=1 for the ranks): say so once, on rank 0.
+void noteRecovery(const RankSession& session) {
+  const char* recovery = std::getenv("OMPI_MCA_orte_enable_recovery");
+  if (session.rank() != 0 || !session.spread() || !std::getenv("OMPI_COMM_WORLD_SIZE")) return;
+  if (recovery && std::string(recovery) == "1") return;
+  std::cerr << "flexsens: note: without mpirun --enable-recovery, OpenMPI ends the whole job when a rank dies "
+               "(the sweep then keeps the samples that finished); with it the other ranks finish (docs/sweeps.md)\n";
+}
+
 SweepRunInfo runInfo(const FarmSummary& f, double wall, double timeLimit) {
   SweepRunInfo info;
   info.ranks = f.ranks;
@@ -148,6 +158,7 @@ SweepResult sweepCommand(const SweepRequest& request) {
     stopFarmWorkers(session);  // they wait for their first task
     throw;
   }
+  noteRecovery(session);
   const Scratch scratch;
   plan.setup.scratch = scratch.path();
   SweepResult res;
