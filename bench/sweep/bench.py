@@ -44,19 +44,38 @@ def sweep(exe, args, out, ranks):
 
 
 def speedup(exe, ranks, repeats, tmp):
-    """Best wall time per rank count (0: no mpirun), each table checked against P = 1."""
-    best, tables = {}, {}
+    """Best wall time per rank count (0: no mpirun) with that run's sweep.json; each table
+    checked against P = 1."""
+    best, meta, tables = {}, {}, {}
     for rep in range(repeats):
         order = list(range(ranks + 1)) if rep % 2 == 0 else list(range(ranks, -1, -1))
         for p in order:
             out = os.path.join(tmp, f"np{p}_{rep}")
-            wall, meta = sweep(exe, FIVEBAR, out, p)
-            best[p] = min(best.get(p, 1e300), wall)
+            wall, m = sweep(exe, FIVEBAR, out, p)
+            if wall < best.get(p, 1e300):
+                best[p], meta[p] = wall, m
             with open(os.path.join(out, "sweep.csv")) as f:
                 tables.setdefault(p, f.read())
-            assert meta["statuses"]["complete"] == list(range(40)), meta["statuses"]
+            assert m["statuses"]["complete"] == list(range(40)), m["statuses"]
     identical = all(tables[p] == tables[1] for p in tables)
-    return best, identical
+    return best, meta, identical
+
+
+def projection(best, meta):
+    """wall(P) = s + ceil(N/P) (t + o) fitted on 1 rank: t the mean sample time, o the
+    scheduler's cost per sample, s what does not spread. Returns (t, o, s, rows)."""
+    rows = meta[1]["rows"]
+    n = len(rows)
+    t = sum(r["seconds"] for r in rows) / n
+    o = meta[1]["scheduling_overhead_per_sample_s"]
+    s = best[1] - n * (t + o)
+    table = []
+    for samples, t_s in ((n, t), (1000, 2.0)):
+        for p in (2, 8, 80, 640):
+            wall1 = s + samples * (t_s + o)
+            wallp = s + -(-samples // p) * (t_s + o)
+            table.append((samples, t_s, p, wallp, wall1 / wallp))
+    return t, o, s, table
 
 
 def overhead(exe, ranks, tmp):
@@ -68,7 +87,7 @@ def overhead(exe, ranks, tmp):
     return rows
 
 
-def report(best, identical, over, load, ranks):
+def report(best, identical, over, proj, load, ranks):
     cpu = "?"
     if os.path.exists("/proc/cpuinfo"):
         for line in open("/proc/cpuinfo"):
@@ -108,6 +127,20 @@ def report(best, identical, over, load, ranks):
     ]
     for p, (o, run, wall) in over.items():
         lines.append(f"| {p} | {o * 1e3:.2f} | {run * 1e3:.1f} | {wall:.2f} |")
+    t, o, s, table = proj
+    lines += [
+        "",
+        "## Projection",
+        "",
+        f"wall(P) = s + ceil(N/P) (t + o), fitted on the 1-rank five-bar sweep: mean sample time t = {t:.3f} s, "
+        f"scheduler cost o = {o * 1e3:.2f} ms per sample, s = {s:.2f} s that does not spread (mpirun's start, "
+        "reading the scene on every rank, writing the table).",
+        "",
+        "| samples N | sample time t [s] | ranks P | projected wall [s] | projected speedup |",
+        "|---|---|---|---|---|",
+    ]
+    for n, t_s, p, wall, sp in table:
+        lines.append(f"| {n} | {t_s:.3g} | {p} | {wall:.1f} | {sp:.1f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -123,11 +156,11 @@ def main():
               file=sys.stderr)
     tmp = tempfile.mkdtemp(prefix="flexsens-bench-sweep-")
     try:
-        best, identical = speedup(os.path.abspath(a.exe), a.ranks, a.repeats, tmp)
+        best, meta, identical = speedup(os.path.abspath(a.exe), a.ranks, a.repeats, tmp)
         over = overhead(os.path.abspath(a.exe), a.ranks, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    text = report(best, identical, over, load, a.ranks)
+    text = report(best, identical, over, projection(best, meta), load, a.ranks)
     with open(os.path.join(HERE, "results.md"), "w") as f:
         f.write(text)
     with open(os.path.join(HERE, "results.csv"), "w") as f:

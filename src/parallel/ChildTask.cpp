@@ -6,12 +6,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <stdexcept>
+#include <vector>
 
 #include "parallel/Packer.hpp"
 
@@ -58,7 +60,20 @@ void writeAll(int fd, const std::string& bytes) {
   std::cout.flush();
   std::cerr.flush();
   writeAll(fd, message);
+  ::close(fd);  // end of file for the parent now, before the exit tears down the address space
   ::_exit(0);
+}
+
+/// Children whose result arrived before they had exited: reaped later, without waiting.
+std::vector<pid_t>& unreaped() {
+  static std::vector<pid_t> pids;
+  return pids;
+}
+
+void reapFinished() {
+  auto& pids = unreaped();
+  pids.erase(std::remove_if(pids.begin(), pids.end(), [](pid_t p) { return ::waitpid(p, nullptr, WNOHANG) != 0; }),
+             pids.end());
 }
 
 std::string signalName(int sig) {
@@ -69,6 +84,7 @@ std::string signalName(int sig) {
 }  // namespace
 
 ChildTask::ChildTask(const std::function<std::string()>& work, bool quiet) : start_(std::chrono::steady_clock::now()) {
+  reapFinished();
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
   std::cout.flush();  // what the parent buffered must not be written twice
@@ -120,25 +136,41 @@ bool ChildTask::poll(double wait) {
   return true;
 }
 
+/// A whole result message (marker, task seconds, payload): the outcome is done.
+bool ChildTask::takeResult() {
+  if (received_.empty() || received_[0] != kResult) return false;
+  try {
+    const std::string packed = received_.substr(1);
+    Unpacker u(packed);
+    const double seconds = u.number();
+    std::string payload = u.text();
+    if (!u.atEnd()) return false;
+    outcome_.done = true;
+    outcome_.taskSeconds = seconds;
+    outcome_.payload = std::move(payload);
+    return true;
+  } catch (const std::exception&) {
+    return false;  // cut short: the child died while it wrote
+  }
+}
+
 void ChildTask::reap() {
+  ended_ = true;
+  outcome_.seconds = elapsed();
+  if (takeResult()) {  // done, however long the exit still takes: reaped later
+    if (::waitpid(pid_, nullptr, WNOHANG) == 0) unreaped().push_back(pid_);
+    received_.clear();
+    return;
+  }
   int status = 0;
   while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
   }
-  ended_ = true;
-  outcome_.seconds = elapsed();
-  if (WIFSIGNALED(status)) {
+  if (WIFSIGNALED(status))
     outcome_.lost = "its process was killed by " + signalName(WTERMSIG(status));
-  } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || received_.empty()) {
-    outcome_.lost = "its process ended with exit status " + std::to_string(WEXITSTATUS(status)) + " without a result";
-  } else if (received_[0] == kException) {
+  else if (!received_.empty() && received_[0] == kException)
     outcome_.lost = "it stopped on an error: " + received_.substr(1);
-  } else {
-    const std::string packed = received_.substr(1);
-    Unpacker u(packed);
-    outcome_.done = true;
-    outcome_.taskSeconds = u.number();
-    outcome_.payload = u.text();
-  }
+  else
+    outcome_.lost = "its process ended with exit status " + std::to_string(WEXITSTATUS(status)) + " without a result";
   received_.clear();
 }
 

@@ -41,6 +41,7 @@ class ChildTask {
 
  private:
   void reap();
+  bool takeResult();
   pid_t pid_ = -1;
   int fd_ = -1;
   bool ended_ = false;
