@@ -70,11 +70,15 @@ std::vector<pid_t>& unreaped() {
   return pids;
 }
 
-void reapFinished() {
+}  // namespace
+
+void ChildTask::reapFinished(bool wait) {
   auto& pids = unreaped();
-  pids.erase(std::remove_if(pids.begin(), pids.end(), [](pid_t p) { return ::waitpid(p, nullptr, WNOHANG) != 0; }),
-             pids.end());
+  auto gone = [wait](pid_t p) { return ::waitpid(p, nullptr, wait ? 0 : WNOHANG) != 0; };  // 0: still exiting
+  pids.erase(std::remove_if(pids.begin(), pids.end(), gone), pids.end());
 }
+
+namespace {
 
 std::string signalName(int sig) {
   const char* d = ::strsignal(sig);
@@ -84,7 +88,7 @@ std::string signalName(int sig) {
 }  // namespace
 
 ChildTask::ChildTask(const std::function<std::string()>& work, bool quiet) : start_(std::chrono::steady_clock::now()) {
-  reapFinished();
+  reapFinished(false);
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
   std::cout.flush();  // what the parent buffered must not be written twice

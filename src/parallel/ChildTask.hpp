@@ -38,6 +38,9 @@ class ChildTask {
   double elapsed() const;
   bool ended() const { return ended_; }
   const ChildOutcome& outcome() const { return outcome_; }
+  /// Children whose result came before they had exited are reaped later: now, waiting for
+  /// them (`wait`), or those already gone.
+  static void reapFinished(bool wait);
 
  private:
   void reap();

@@ -378,10 +378,11 @@ bool Helper::runTask(int index, TaskOutcome& out) {
 
 FarmSummary runTaskFarm(RankSession& session, int count, const std::function<std::string(int)>& work,
                         const std::function<void(const TaskOutcome&)>& done, const FarmOptions& options) {
-  if (session.rank() == 0) return Master(session, count, work, done, options).run();
-  Helper(session, work, options).run();
   FarmSummary s;
   s.ranks = session.size();
+  if (session.rank() == 0) s = Master(session, count, work, done, options).run();
+  else Helper(session, work, options).run();
+  ChildTask::reapFinished(true);  // no task's process outlives the farm
   return s;
 }
 

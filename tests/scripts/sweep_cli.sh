@@ -151,7 +151,7 @@ part_interrupt() {
   (cd "$W" && exec "$FLEXSENS" sweep "$FB" --case F5 --parameter L_B1=2.18:2.29:40 --out i --no-plots > "$W/out" 2> "$W/err") &
   BG=$!
   for _ in $(seq 300); do  # until two samples have finished; a guard, not a timing check
-    [ "$(grep -c " complete " "$W/err" 2> /dev/null)" -ge 2 ] && break
+    [ "$(grep -c " complete " "$W/err" 2> /dev/null || true)" -ge 2 ] 2> /dev/null && break
     sleep 0.1
   done
   local child; child=$(pgrep -P $BG)  # the running sample's process

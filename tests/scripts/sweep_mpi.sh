@@ -45,9 +45,9 @@ sweep_and_kill_rank1() {
   local r1="" n=0
   for _ in $(seq 600); do  # until rank 1 has run 2 samples and runs another; a guard, not a timing check
     [ -z "$r1" ] && r1=$(rank_pid $BG 1)
-    n=$(grep -c "rank 1)" "$W/err" 2> /dev/null)
+    n=$(grep -c "rank 1)" "$W/err" 2> /dev/null || true)
     child=$([ -n "$r1" ] && pgrep -P "$r1")
-    [ -n "$r1" ] && [ "$n" -ge 2 ] && [ -n "$child" ] && break
+    [ -n "$r1" ] && [ "${n:-0}" -ge 2 ] && [ -n "$child" ] && break
     sleep 0.05
   done
   echo "killing rank 1 (pid $r1, its sample's process $child)"
