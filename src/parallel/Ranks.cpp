@@ -46,19 +46,20 @@ bool launched() {
 bool mpiBuilt() { return true; }
 
 RankSession::RankSession(const std::string&) {
-  if (!launched()) return;
   int already = 0;
   MPI_Initialized(&already);
-  if (already) throw std::logic_error("MPI initialized twice (one RankSession per command)");
-  if (MPI_Init(nullptr, nullptr) != MPI_SUCCESS) throw std::runtime_error("MPI_Init failed");
-  initialized_ = gInitialized = true;
+  if (!already && !launched()) return;
+  // MPI started by the caller (a Python program with mpi4py): used as it is, not finalized.
+  if (!already && MPI_Init(nullptr, nullptr) != MPI_SUCCESS) throw std::runtime_error("MPI_Init failed");
+  initialized_ = !already;
+  gInitialized = true;
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 }
 
 RankSession::~RankSession() {
-  if (!initialized_ || abandoned_) return;
+  if (!initialized_ || abandoned_) return;  // not ours to finalize, or a rank is gone
   MPI_Finalize();
   gInitialized = false;
 }

@@ -12,7 +12,8 @@ namespace flexsens {
 bool mpiBuilt();
 
 /// MPI for the life of one command: MPI_Init when a launcher started the process, MPI_Finalize
-/// at the end; without a launcher one rank. A build without MPI started by a launcher with
+/// at the end (MPI the caller initialized is used as it is and left to it); without a
+/// launcher one rank. A build without MPI started by a launcher with
 /// more than one rank is an InputError naming `command` (each process would run the whole
 /// command into the same folder).
 class RankSession {
