@@ -89,6 +89,11 @@ part_failures() {
     '[ "$(cell "$W/f/sweep.csv" 1 status)" = complete ] && [ "$(cell "$W/f/sweep.csv" 2 status)" = complete ] && [ -n "$(cell "$W/f/sweep.csv" 2 tip_x@0.5)" ]'
   expect "the report names the failed sample" 'grep -q "failed: sample 0: " "$W/out"'
   expect "sweep.json lists it" 'grep -q "\"failed\": \[0\]" "$W/f/sweep.json"'
+  echo "== suspect samples (BDF-1 at dt = 10 ms damps the pendulum) keep their values and the audit's reason"
+  sweep "$SRC/examples/pendulum/pendulum.yaml" --parameter m=1:2:2 --integrator bdf1 --dt 0.01 --out u --no-plots
+  expect "exit 5 (got $rc)" '[ $rc = 5 ]'
+  expect "both suspect, the energy audit's reason, values kept" \
+    '[ "$(cell "$W/u/sweep.csv" 1 status)" = suspect ] && cell "$W/u/sweep.csv" 1 reason | grep -q "energy audit" && [ -n "$(cell "$W/u/sweep.csv" 1 tip_x@2)" ]'
   echo "== a sample past --sample-time-limit (IDAS at k = 1e12) is killed and lost"
   sweep "$OSC" --parameter k=50:1e12:2 --integrator idas --sample-time-limit 2 --out t --no-plots
   expect "exit 5 (got $rc)" '[ $rc = 5 ]'
