@@ -123,8 +123,9 @@ double ChildTask::elapsed() const {
 bool ChildTask::poll(double wait) {
   if (ended_) return true;
   pollfd p{fd_, POLLIN, 0};
-  const int ms = static_cast<int>(wait * 1000.0);
-  if (::poll(&p, 1, ms) <= 0) return false;
+  const long ns = static_cast<long>(wait * 1e9);
+  const timespec timeout{ns / 1000000000L, ns % 1000000000L};
+  if (::ppoll(&p, 1, &timeout, nullptr) <= 0) return false;
   char buf[65536];
   for (;;) {  // drains what is there; a full pipe would stop the child
     const ssize_t n = ::read(fd_, buf, sizeof buf);

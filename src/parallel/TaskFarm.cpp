@@ -23,6 +23,10 @@ namespace {
 enum Tag { kReady = 1, kResult = 2, kHeartbeat = 3, kLeaving = 4, kTask = 10, kNoMore = 11, kAlive = 12, kEnd = 13 };
 
 constexpr double kHeartbeatInterval = 1.0;  ///< [s] between a worker's heartbeats, and rank 0's ALIVE
+/// [s] rank 0 waits on its own task's pipe before it looks for messages again, and a worker
+/// between looks for rank 0's answer: the latency a sample's round trip adds (a wake-up
+/// costs microseconds).
+constexpr double kPollInterval = 0.0005;
 constexpr double kSendTimeout = 30.0;       ///< [s] for one message to be taken
 
 double now() {
@@ -161,10 +165,10 @@ void Master::runLocal() {
     local_ = std::make_unique<ChildTask>([this, index] { return work_(index); }, opt_.quiet);
   }
   if (localTask_ < 0) {
-    pause(0.002);
+    pause(kPollInterval);
     return;
   }
-  if (!local_->poll(0.002) && opt_.timeLimit > 0 && local_->elapsed() > opt_.timeLimit)
+  if (!local_->poll(kPollInterval) && opt_.timeLimit > 0 && local_->elapsed() > opt_.timeLimit)
     local_->kill(timeLimitText(opt_.timeLimit));
   if (!local_->ended()) return;
   const int index = localTask_;
@@ -346,7 +350,7 @@ int Helper::nextTask() {
       session_.abandon();  // rank 0 is gone: nobody to finalize with
       return -1;
     }
-    pause(0.001);
+    pause(kPollInterval);
   }
 }
 
