@@ -99,6 +99,15 @@ part_failures() {
   expect "exit 5 (got $rc)" '[ $rc = 5 ]'
   expect "sample 1 lost at the time limit, sample 0 complete" \
     '[ "$(cell "$W/t/sweep.csv" 1 status)" = lost ] && cell "$W/t/sweep.csv" 1 reason | grep -q "time limit of 2 s.*--sample-time-limit" && [ "$(cell "$W/t/sweep.csv" 0 status)" = complete ]'
+  echo "== a sample whose process is killed (kill -9) is lost, the sweep goes on"
+  (cd "$W" && exec "$FLEXSENS" sweep "$OSC" --parameter k=40:60:3 --t-end 2 --dt 2e-5 --out x --no-plots > "$W/out" 2> "$W/err") &
+  BG=$!
+  local child=""
+  for _ in $(seq 300); do child=$(pgrep -P $BG); [ -n "$child" ] && break; sleep 0.05; done
+  sleep 0.3; kill -9 $child; wait $BG; rc=$?; BG=""
+  expect "exit 5 (got $rc)" '[ $rc = 5 ]'
+  expect "sample 0 lost, killed by signal 9, samples 1 and 2 complete" \
+    '[ "$(cell "$W/x/sweep.csv" 0 status)" = lost ] && cell "$W/x/sweep.csv" 0 reason | grep -q "killed by signal 9" && [ "$(cell "$W/x/sweep.csv" 2 status)" = complete ]'
   expect "no scratch folder left" 'no_scratch_left'
 }
 
