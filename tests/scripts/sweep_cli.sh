@@ -131,6 +131,9 @@ part_errors() {
     expect "$args: exit 1 (got $rc), names $option: $message" \
       '[ $rc = 1 ] && grep -q -- "option $option" "$W/err" && grep -q -- "$message" "$W/err"'
   done
+  sed '/^outputs:/,/^output:/{/^output:/!d}' "$OSC" > "$W/no_outputs.yaml"  # the outputs list removed
+  (cd "$W/e" && "$FLEXSENS" sweep ../no_outputs.yaml --parameter k=1:2:3 --out out > "$W/out" 2> "$W/err"); rc=$?
+  expect "a scene without outputs: exit 1 (got $rc), names --output" '[ $rc = 1 ] && grep -q "option --output: .* has no outputs" "$W/err"'
   expect "nothing written" '[ -z "$(ls -A "$W/e")" ] && no_scratch_left'
 }
 
