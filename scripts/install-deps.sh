@@ -14,6 +14,7 @@ PACKAGES=(
   libyaml-cpp-dev                    # scene files
   libcli11-dev                       # command line
   libgtest-dev                       # tests
+  libopenmpi-dev openmpi-bin         # MPI: sweep, run and study over the ranks of mpirun (docs/sweeps.md)
   python3-matplotlib                 # PNG plots of the results
   python3-yaml                       # scene fuzzer (scripts/fuzz_scenes.py)
 )

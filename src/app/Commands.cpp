@@ -3,6 +3,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/CaseRanks.hpp"
+#include "app/StudyRanks.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "integrators/InitialState.hpp"
@@ -12,7 +14,7 @@ namespace flexsens {
 
 // ------------------------------------------------------------------ run
 std::vector<RunCase> prepareRun(const RunRequest& request) {
-  Scene base = readScene(request.scenePath);
+  Scene base = readScene(request.scenePath, "", request.parameterValues);
   base.requireDynamics();
   std::vector<std::string> names = request.cases;
   if (names.empty()) names = base.caseNames;
@@ -22,7 +24,8 @@ std::vector<RunCase> prepareRun(const RunRequest& request) {
                      "use `flexsens static`, or add an integrator to run it)");
   std::vector<RunCase> cases;
   for (const auto& name : names) {
-    cases.push_back({request.scenePath, name, name.empty() ? std::move(base) : readScene(request.scenePath, name), ""});
+    Scene sc = name.empty() ? std::move(base) : readScene(request.scenePath, name, request.parameterValues);
+    cases.push_back({request.scenePath, name, std::move(sc), ""});
     applyOptions(cases.back().scene, request.options);
     cases.back().directory = cases.back().scene.output.directory + (name.empty() ? "" : "/" + name);
   }
@@ -51,12 +54,16 @@ RunCommandResult runCases(const std::vector<RunCase>& cases,
 
 RunCommandResult runCommand(const RunRequest& request,
                             const std::function<void(const RunCase&, const RunResult&)>& caseDone) {
-  return runCases(prepareRun(request), caseDone);
+  RankSession ranks("run");  // one rank unless mpirun or srun started this process
+  std::vector<RunCase> cases = prepareRun(request);
+  if (ranks.spread() && cases.size() > 1) return runCasesOnRanks(ranks, cases, caseDone);
+  if (ranks.rank() != 0) return {};  // one case: rank 0 runs it
+  return runCases(cases, caseDone);
 }
 
 // ------------------------------------------------------------------ static
 StaticCommandResult staticCommand(const StaticRequest& request) {
-  Scene sc = readScene(request.scenePath);
+  Scene sc = readScene(request.scenePath, "", request.parameterValues);
   if (request.loadSteps) {
     if (*request.loadSteps < 1 || *request.loadSteps > 100000)
       throw InputError("option --load-steps: expected 1 to 100000");
@@ -67,6 +74,7 @@ StaticCommandResult staticCommand(const StaticRequest& request) {
       throw InputError("option --method: static sensitivities are dd or ad, got '" + request.method + "'");
     sc.sensitivity.method = request.method;
   }
+  if (!request.frames) sc.output.vtk = false;
   StaticCommandResult out;
   // Beside the run's directory, not inside it: a rerun replaces its directory whole.
   out.directory = request.outDir.empty() ? sc.output.directory + "-static" : request.outDir;
@@ -158,6 +166,9 @@ std::string checkReport(const CheckResult& r) {
 }
 
 // ------------------------------------------------------------------ study
-std::string studyCommand(const StudyOptions& options) { return runStudy(options); }
+std::string studyCommand(const StudyOptions& options) {
+  RankSession ranks("study");  // one rank unless mpirun or srun started this process
+  return ranks.spread() ? runStudyOnRanks(ranks, options) : runStudy(options);
+}
 
 }  // namespace flexsens

@@ -28,6 +28,7 @@ struct RunRequest {
   std::string scenePath;
   RunOptions options;
   std::vector<std::string> cases;  ///< PIM cases to run; empty: every case of the scene
+  ParameterValues parameterValues;  ///< parameters set to these values (a sweep's sample)
 };
 
 /// One case of a run, read and validated, with the directory its results go to.
@@ -51,7 +52,8 @@ std::vector<RunCase> prepareRun(const RunRequest& request);
 /// Runs the prepared cases in order; `caseDone` (when given) sees each result as it comes.
 RunCommandResult runCases(const std::vector<RunCase>& cases,
                           const std::function<void(const RunCase&, const RunResult&)>& caseDone = {});
-/// prepareRun then runCases.
+/// prepareRun then runCases; under mpirun with several ranks and cases, the cases spread
+/// over the ranks and rank 0 writes (app/CaseRanks.hpp); other ranks return an empty result.
 RunCommandResult runCommand(const RunRequest& request,
                             const std::function<void(const RunCase&, const RunResult&)>& caseDone = {});
 
@@ -61,6 +63,8 @@ struct StaticRequest {
   std::string outDir;             ///< empty: <output.directory>-static
   std::optional<int> loadSteps;   ///< empty: the scene's static.load_steps
   std::string method;             ///< dd | ad; empty: the scene's
+  ParameterValues parameterValues;  ///< parameters set to these values (a sweep's sample)
+  bool frames = true;               ///< false: no VTK frames whatever the scene says
 };
 
 struct StaticCommandResult {
@@ -110,7 +114,8 @@ CheckResult checkCommand(const std::string& scenePath);
 std::string checkReport(const CheckResult& r);
 
 // ------------------------------------------------------------------ study
-/// Runs the study (app/Study.hpp); returns the path of its report.
+/// Runs the study (app/Study.hpp); returns the path of its report. Under mpirun the sections
+/// spread over the ranks (app/StudyRanks.hpp); other ranks than 0 return "".
 std::string studyCommand(const StudyOptions& options);
 
 }  // namespace flexsens

@@ -245,10 +245,11 @@ struct StudyRun {
   std::vector<const Mechanism*> all() const { return {&rigid, &flexible, &fourBar, &pendulum}; }
 
   const StudyOptions& opt;
+  double otherCpu = 0.0;  ///< [s] CPU of sections run in other processes (the study over MPI ranks)
   const int reps;       ///< repetitions of a timed run (best of)
   const double seedT;   ///< seed mechanisms: error over time, work-precision [s]
   const double costT;   ///< seed mechanisms: cost tables (ratios per step; ad is slow) [s]
-  const std::chrono::steady_clock::time_point wall0 = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point wall0 = std::chrono::steady_clock::now();
   const std::clock_t cpu0 = std::clock();
   Mechanism rigid, flexible, fourBar, pendulum;
   std::ostringstream md;                                   ///< the report
@@ -569,7 +570,7 @@ void stabilitySection(StudyRun& run) {
 /// The report's plots and timing; returns the plots scripts/plot_study.py draws.
 std::vector<std::string> studyEnd(StudyRun& run) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.wall0).count();
-  const double cpu = double(std::clock() - run.cpu0) / CLOCKS_PER_SEC;
+  const double cpu = double(std::clock() - run.cpu0) / CLOCKS_PER_SEC + run.otherCpu;
   run.progress("done");
   run.md << "## Plots\n\n![cost](cost.png)\n\n";
   for (const Mechanism* mech : run.all())
@@ -582,6 +583,13 @@ std::vector<std::string> studyEnd(StudyRun& run) {
   return plots;
 }
 
+/// The report's sections after its header, in order.
+const std::vector<void (*)(StudyRun&)>& sections() {
+  static const std::vector<void (*)(StudyRun&)> s = {costSection, errorOverTimeSection, workPrecisionSection,
+                                                     ndSweepSection, stabilitySection};
+  return s;
+}
+
 }  // namespace
 
 std::string runStudy(const StudyOptions& opt) {
@@ -590,11 +598,29 @@ std::string runStudy(const StudyOptions& opt) {
   RunDirectory dir(opt.outDir, "study");
   StudyRun run(opt);
   studyHeader(run);
-  costSection(run);
-  errorOverTimeSection(run);
-  workPrecisionSection(run);
-  ndSweepSection(run);
-  stabilitySection(run);
+  for (const auto& section : sections()) section(run);
+  const std::vector<std::string> plots = studyEnd(run);
+  return writeStudyOutput(dir, run.files, plots);
+}
+
+int studySectionCount() { return static_cast<int>(sections().size()); }
+
+StudyPart runStudySection(const StudyOptions& opt, int index) {
+  StudyRun run(opt);
+  sections().at(index)(run);
+  return {run.md.str(), run.files, double(std::clock() - run.cpu0) / CLOCKS_PER_SEC};
+}
+
+std::string writeStudyParts(RunDirectory& dir, const StudyOptions& opt, const std::vector<StudyPart>& parts,
+                            std::chrono::steady_clock::time_point started) {
+  StudyRun run(opt);
+  run.wall0 = started;
+  studyHeader(run);
+  for (const StudyPart& p : parts) {
+    run.md << p.report;
+    run.files.insert(run.files.end(), p.files.begin(), p.files.end());
+    run.otherCpu += p.cpuSeconds;
+  }
   const std::vector<std::string> plots = studyEnd(run);
   return writeStudyOutput(dir, run.files, plots);
 }

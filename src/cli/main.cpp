@@ -1,5 +1,5 @@
 // flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`,
-// `flexsens modes SCENE`, `flexsens study`. Exit codes: 0 success, 1 bad input (scene or
+// `flexsens modes SCENE`, `flexsens study`, `flexsens sweep SCENE` (cli/SweepCli.cpp). Exit codes: 0 success, 1 bad input (scene or
 // options), 2 numerical failure, 3 other error, 4 results could not be written or the output
 // folder was refused (it holds files flexsens did not write; nothing touched), 5 run completed
 // but suspect (energy audit), 6 the output folder is in use by another run of any kind (run,
@@ -14,6 +14,7 @@
 #include <iostream>
 
 #include "app/Commands.hpp"
+#include "cli/SweepCli.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "core/Types.hpp"
@@ -166,7 +167,7 @@ void addStudy(CLI::App& app, StudyArgs& a) {
 
 int executeStudy(const StudyArgs& a) {
   const std::string report = studyCommand(a.options);  // first: a failed study prints no "written"
-  std::cout << "study report written to " << report << "\n";
+  if (!report.empty()) std::cout << "study report written to " << report << "\n";  // "": not rank 0
   return 0;
 }
 
@@ -236,13 +237,15 @@ int main(int argc, char** argv) {
   CheckArgs check;
   ModesArgs modes;
   StudyArgs study;
+  SweepArgs sweep;
   addRun(app, run);
   addStatic(app, statik);
   addCheck(app, check);
   addModes(app, modes);
   InputLimits limits;
-  addInputLimits({run.command, statik.command, check.command, modes.command}, limits);
   addStudy(app, study);
+  addSweep(app, sweep);
+  addInputLimits({run.command, statik.command, check.command, modes.command, sweep.command}, limits);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -251,6 +254,7 @@ int main(int argc, char** argv) {
   try {
     applyInputLimits(limits);
     if (*study.command) return executeStudy(study);
+    if (*sweep.command) return executeSweep(sweep);
     if (*statik.command) return executeStatic(statik);
     if (*modes.command) return executeModes(modes);
     if (*check.command) return executeCheck(check);

@@ -1,6 +1,7 @@
 // A scene: the model built from a YAML file plus what to run and what to write.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,11 +66,17 @@ struct Scene {
   }
 };
 
+/// Values for scene parameters by name (a sweep's sample): each quantity bound to the
+/// parameter takes the value in place of the scene's, for every case.
+using ParameterValues = std::map<std::string, double>;
+
 /// Reads and validates a scene file; throws InputError naming file:line, key and expectation.
 /// With caseName, the model is built for that PIM case (its rigid models, its parameters).
-Scene readScene(const std::string& path, const std::string& caseName = "");
+/// With values, the named parameters' properties take them (InputError for a name the
+/// scene's parameters list does not hold).
+Scene readScene(const std::string& path, const std::string& caseName = "", const ParameterValues& values = {});
 /// Same, from text (tests); `name` is used in messages as the file name.
-Scene readSceneText(const std::string& text, const std::string& name,
-                    const std::string& caseName = "");
+Scene readSceneText(const std::string& text, const std::string& name, const std::string& caseName = "",
+                    const ParameterValues& values = {});
 
 }  // namespace flexsens

@@ -220,6 +220,34 @@ void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelecti
       if (!seen.count(name)) r.fail(node, sel->paramsPath, "no parameter named '" + name + "' under parameters");
 }
 
+/// Values given to scene parameters from outside the scene (a sweep's sample): every
+/// quantity bound to a named parameter takes the value as if the scene had said it, before
+/// PIM cases, rigid models and the parameters' nominal values are read. Entries the list
+/// cannot bind are left to readParameters to report.
+void applyParameterValues(SceneContext& ctx, const YAML::Node& list, const ParameterValues& values) {
+  if (values.empty()) return;
+  std::set<std::string> found;
+  std::string names;
+  for (size_t i = 0; list && list.IsSequence() && i < list.size(); ++i) {
+    const YAML::Node pn = list[i];
+    if (!pn.IsMap() || !pn["name"] || !pn["of"] || !pn["property"] || !pn["name"].IsScalar()) continue;
+    const std::string name = pn["name"].Scalar(), of = pn["of"].Scalar(), prop = pn["property"].Scalar();
+    names += (names.empty() ? "" : ", ") + name;
+    const auto v = values.find(name);
+    if (v == values.end()) continue;
+    found.insert(name);
+    if (of == "gravity") {
+      if (axisIndex(ctx.m, prop) >= 0) ctx.m.gravity[axisIndex(ctx.m, prop)] = v->second;
+    } else if (const auto b = ctx.bindings.find(of + "." + prop); b != ctx.bindings.end()) {
+      for (Quantity* q : b->second) q->constant = v->second;
+    }
+  }
+  for (const auto& [name, value] : values)
+    if (!found.count(name))
+      throw InputError(ctx.r.file() + ": a value is given for '" + name + "', but the scene has no parameter of that "
+                       "name under parameters" + (names.empty() ? " (it defines none)" : " (its parameters: " + names + ")"));
+}
+
 /// Fails at node `name`'s entry under `nodes`, or at `geometry` for a node from Gmsh.
 [[noreturn]] void failAtNode(const SceneContext& ctx, const YAML::Node& root, const std::string& name,
                              const std::string& what) {
@@ -255,7 +283,8 @@ void requireMass(const SceneContext& ctx, const YAML::Node& root, Scene& sc) {
   }
 }
 
-Scene build(const std::string& file, const YAML::Node& root, const std::string& caseName) {
+Scene build(const std::string& file, const YAML::Node& root, const std::string& caseName,
+            const ParameterValues& values) {
   Scene sc;
   sc.file = file;
   if (!root || root.IsNull())
@@ -292,6 +321,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   ctx.checkSlopes();
   deriveSlopeRates(ctx);
   if (root["constraints"]) readItems(ctx, root["constraints"], "constraints", "constraint", constraintKinds());
+  applyParameterValues(ctx, root["parameters"], values);
   CaseSelection sel;
   sel.name = caseName;
   if (!caseName.empty() && !root["cases"])
@@ -321,7 +351,8 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
 
 }  // namespace
 
-Scene readSceneText(const std::string& text, const std::string& name, const std::string& caseName) {
+Scene readSceneText(const std::string& text, const std::string& name, const std::string& caseName,
+                    const ParameterValues& values) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -331,17 +362,17 @@ Scene readSceneText(const std::string& text, const std::string& name, const std:
        << "YAML syntax error: " << e.msg;
     throw InputError(os.str());
   }
-  return build(name, root, caseName);
+  return build(name, root, caseName, values);
 }
 
-Scene readScene(const std::string& path, const std::string& caseName) {
+Scene readScene(const std::string& path, const std::string& caseName, const ParameterValues& values) {
   std::string text;
   try {
     text = readBoundedFile(path, inputPolicy().maxSceneBytes, path);
   } catch (const std::runtime_error& e) {
     throw InputError(path + ": cannot read the scene file: " + e.what());
   }
-  return readSceneText(text, path, caseName);
+  return readSceneText(text, path, caseName, values);
 }
 
 }  // namespace flexsens
