@@ -35,7 +35,11 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   /// degenerate rest triangle (area below 1e-10 (longest edge)^2).
   ShellTriangle(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX);
   std::string kind() const override { return "shell_triangle"; }
+  /// Q and its Jacobians by the fixed-size kernel (elements/ContinuumKernel.hpp, no heap);
+  /// kernelForce() and the AD Jacobians evaluate the value template forceT instead.
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return props_->damped(); }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
@@ -58,6 +62,13 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
  private:
   friend class KernelElement<ShellTriangle>;
   void checkDim(const LocalState& s) const;
+  /// The material's constants at parameters p.
+  struct Coefficients {
+    double mu, lam, lamStar;  ///< Lame constants and the plane-stress lambda of C0 [Pa]
+    double t, m;              ///< thickness [m], mass rho t A [kg]
+    double alpha, beta;       ///< damping [1/s], [s]
+  };
+  Coefficients coefficients(const VecX& p) const;
   /// F = sum x_i G_i^T and its rate Fd = sum v_i G_i^T (3 x 2; Fd = 0 without velocities).
   void kinematics(const LocalState& s, MatX& F, MatX& Fd) const;
   /// membraneStress for any scalar; dev: the deviatoric membrane Cauchy stress (3 x 3).

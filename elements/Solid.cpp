@@ -148,44 +148,7 @@ VecT<T> Solid::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, c
 }
 
 // ------------------------------------------------------------------ analytic derivatives
-void Solid::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  const int d = dim_, nd = n_ * d;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu), lamV = lambdaRest(mu, lam);
-  const double t = props_->thickness.value(p), rt = props_->density.value(p) * t;
-  const double alpha = props_->alpha.value(p), beta = props_->beta.value(p);
-  dQdq.setZero(nd, nd);
-  dQdv.setZero(nd, nd);
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j)
-      dQdv.block(i * d, j * d, d, d) -= (alpha * rt * massShape_(i, j)) * MatX::Identity(d, d);
-  const MatX I = MatX::Identity(d, d);
-  const std::string who = "solid element " + name();
-  MatX F, Fd;
-  for (const Point& P : pts_) {
-    kinematics(P, s.x, s.v, F, Fd);
-    checkOrientation(F.determinant());
-    const MatX E = 0.5 * (F.transpose() * F - I);
-    const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
-    const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
-    for (int j = 0; j < n_; ++j)
-      for (int c = 0; c < d; ++c) {
-        MatX dF = MatX::Zero(d, d);
-        dF.row(c) = P.G.row(j);
-        const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
-        const MatX Bd = dF.transpose() * Fd, dEd = 0.5 * (Bd + Bd.transpose());
-        const MatX dS = props_->law.tangent(E, mu, lam, dE) + beta * elasticity0(mu, lamV, dEd);
-        const MatX dP = dF * S + F * dS;                          // d(F S)/dx_jc
-        const MatX dPv = beta * F * elasticity0(mu, lamV, dE);    // d(F S)/dv_jc
-        for (int i = 0; i < n_; ++i) {
-          dQdq.block(i * d, j * d + c, d, 1) -= (P.w * t) * dP * P.G.row(i).transpose();
-          dQdv.block(i * d, j * d + c, d, 1) -= (P.w * t) * dPv * P.G.row(i).transpose();
-        }
-      }
-  }
-}
-
+// force() and forceJacobian(): SolidKernel.cpp.
 bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
   // Sums of the chain rule when several properties are bound to the same parameter.
   const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
