@@ -87,6 +87,49 @@ bool pointStress(const MaterialLaw& law, const Sym<DM>& C, double mu, double lam
   return true;
 }
 
+/// dS = dS/dmu dmu + dS/dlambda dlam of `law` at C = F^T F (det C > 0 for neo-Hookean: the
+/// caller has evaluated pointStress there). As MaterialLaw::stressDerivatives.
+template <int DM>
+Sym<DM> stressParameterDerivative(const MaterialLaw& law, const Sym<DM>& C, double mu, double lam, double dmu,
+                                  double dlam) {
+  const Sym<DM> I = Sym<DM>::Identity();
+  if (law.law == Law::SaintVenantKirchhoff) {
+    double lMu = 0.0, lLam = 1.0;  // d lambdaUsed / d(mu, lambda)
+    if (law.planeStress()) {
+      const double s = lam + 2.0 * mu;
+      lMu = 2.0 * lam * lam / (s * s);
+      lLam = 4.0 * mu * mu / (s * s);
+    }
+    const Sym<DM> E = 0.5 * (C - I);
+    return ((lMu * dmu + lLam * dlam) * E.trace()) * I + (2.0 * dmu) * E;
+  }
+  const double lnD = std::log(C.determinant());
+  const Sym<DM> Ci = C.inverse();
+  if (!law.planeStress()) return dmu * (I - Ci) + (0.5 * lnD * dlam) * Ci;
+  // S = mu (I - c C^-1); f(c; mu, lambda) = mu (c - 1) + lambda ln J = 0 gives
+  // dc/dmu = -(c - 1) / f_c, dc/dlambda = -ln J / f_c.
+  const double c = planeStressC33(mu, lam, lnD);
+  const double fc = mu + 0.5 * lam / c, lnJ = 0.5 * (lnD + std::log(c));
+  return dmu * (I - c * Ci) + (mu * (dmu * (c - 1.0) + dlam * lnJ) / fc) * Ci;
+}
+
+/// d(mu, lambda) [Pa] along (dE, dnu) at (E, nu), and of lambda0, the lambda of the rest
+/// elasticity C0 (planeStress: 2 lambda mu / (lambda + 2 mu), else lambda).
+struct LameDerivative {
+  double mu, lam, lam0;
+};
+inline LameDerivative lameDerivative(double E, double nu, double dE, double dNu, bool planeStress) {
+  double muE, muNu, lamE, lamNu;
+  lameDerivatives(E, nu, muE, muNu, lamE, lamNu);
+  LameDerivative d{muE * dE + muNu * dNu, lamE * dE + lamNu * dNu, 0.0};
+  d.lam0 = d.lam;
+  if (planeStress) {  // d(2 lambda mu / (lambda + 2 mu)) = (2 lambda^2 dmu + 4 mu^2 dlambda) / (lambda + 2 mu)^2
+    const double m = mu(E, nu), l = lambda(E, nu), sum = l + 2.0 * m;
+    d.lam0 = (2.0 * l * l * d.mu + 4.0 * m * m * d.lam) / (sum * sum);
+  }
+  return d;
+}
+
 /// The rest (linear) elasticity C0 : A = lambda0 tr(A) I + 2 mu A of a symmetric A [Pa].
 template <int DM>
 Sym<DM> restElasticity(double mu, double lambda0, const Sym<DM>& A) {

@@ -69,8 +69,6 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
     double alpha, beta;       ///< damping [1/s], [s]
   };
   Coefficients coefficients(const VecX& p) const;
-  /// F = sum x_i G_i^T and its rate Fd = sum v_i G_i^T (3 x 2; Fd = 0 without velocities).
-  void kinematics(const LocalState& s, MatX& F, MatX& Fd) const;
   /// membraneStress for any scalar; dev: the deviatoric membrane Cauchy stress (3 x 3).
   template <class T>
   void membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,

@@ -83,10 +83,6 @@ double Solid::lambdaRest(double mu, double lam) const {
   return props_->law.planeStress() ? material::planeStressLambda(mu, lam) : lam;
 }
 
-MatX Solid::elasticity0(double mu, double lamV, const MatX& A) const {
-  return lamV * A.trace() * MatX::Identity(dim_, dim_) + 2.0 * mu * A;
-}
-
 void Solid::kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const {
   const int d = dim_;
   F.setZero(d, d);
@@ -148,57 +144,7 @@ VecT<T> Solid::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, c
 }
 
 // ------------------------------------------------------------------ analytic derivatives
-// force() and forceJacobian(): SolidKernel.cpp.
-bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  // Sums of the chain rule when several properties are bound to the same parameter.
-  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
-               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k), dBeta = props_->beta.boundTo(k);
-  if (!(dYoung || dNu || dRho || dT || dAlpha || dBeta)) return false;
-  const int d = dim_, nd = n_ * d;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu), lamV = lambdaRest(mu, lam);
-  const double rho = props_->density.value(p), t = props_->thickness.value(p);
-  const double alpha = props_->alpha.value(p), beta = props_->beta.value(p);
-  double muE, muNu, lamE, lamNu;
-  material::lameDerivatives(E0, nu, muE, muNu, lamE, lamNu);
-  const double dmu = muE * dYoung + muNu * dNu, dlam = lamE * dYoung + lamNu * dNu;
-  double dlamV = dlam;
-  if (props_->law.planeStress()) {  // d(2 lambda mu / (lambda + 2 mu))
-    const double sum = lam + 2.0 * mu;
-    dlamV = (2.0 * lam * lam * dmu + 4.0 * mu * mu * dlam) / (sum * sum);
-  }
-  const double drt = dRho * t + rho * dT;
-  const bool hasV = s.v.size() == s.x.size();
-  const VecX g = s.gravity ? VecX(*s.gravity) : VecX(VecX::Zero(d));
-  dQ.setZero(nd);
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j) {
-      dQ.segment(i * d, d) += (drt * massShape_(i, j)) * g;
-      if (hasV) dQ.segment(i * d, d) -= ((drt * alpha + rho * t * dAlpha) * massShape_(i, j)) * s.v.segment(j * d, d);
-    }
-  const MatX I = MatX::Identity(d, d);
-  const std::string who = "solid element " + name();
-  MatX F, Fd, dSmu, dSlam;
-  for (const Point& P : pts_) {
-    kinematics(P, s.x, s.v, F, Fd);
-    checkOrientation(F.determinant());
-    const MatX E = 0.5 * (F.transpose() * F - I);
-    const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
-    const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
-    props_->law.stressDerivatives(E, mu, lam, dSmu, dSlam);
-    const MatX dS = dSmu * dmu + dSlam * dlam + dBeta * elasticity0(mu, lamV, Ed) +
-                    beta * (dlamV * Ed.trace() * I + 2.0 * dmu * Ed);
-    const MatX dP = dT * F * S + t * F * dS;  // d(t F S)
-    for (int i = 0; i < n_; ++i) dQ.segment(i * d, d) -= P.w * dP * P.G.row(i).transpose();
-  }
-  dM.setZero(nd, nd);
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j)
-      for (int c = 0; c < d; ++c) dM(i * d + c, j * d + c) = drt * massShape_(i, j);
-  return true;
-}
-
+// force(), forceJacobian() and parameterDerivative(): SolidKernel.cpp.
 double Solid::potential(const LocalState& s) const {
   const int d = dim_;
   const VecX& p = *s.p;

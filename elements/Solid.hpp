@@ -86,7 +86,6 @@ class Solid : public KernelElement<Solid> {
   };
   /// Per-point kinematics (double): F, E, Fd at state s.
   void kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const;
-  MatX elasticity0(double mu, double lamV, const MatX& A) const;  ///< C0 : A
   double lambdaRest(double mu, double lam) const;                 ///< lambda of C0
   /// Neo-Hookean: NumericalError naming the element when det F <= 0 (det C cannot tell).
   void checkOrientation(double detF) const;
@@ -105,6 +104,8 @@ class Solid : public KernelElement<Solid> {
   void forceFixed(const LocalState& s, VecX& Q) const;
   template <int D, int N>
   void forceJacobianFixed(const LocalState& s, MatX& dQdq, MatX& dQdv) const;
+  template <int D, int N>
+  void parameterDerivativeFixed(const LocalState& s, int k, VecX& dQ) const;
   /// centroidStress for any scalar: dev returns the deviatoric Cauchy stress (3 x 3).
   template <class T>
   void centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,

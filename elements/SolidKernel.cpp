@@ -1,4 +1,4 @@
-// The fixed-size force and force Jacobian of the continuum elements (elements/Solid.hpp),
+// The fixed-size force, force Jacobian and parameter derivative of the continuum elements (elements/Solid.hpp),
 // one instance per simplex: stack matrices of the element's size, the material's C, C^-1 and
 // det C once per quadrature point (elements/MaterialPoint.hpp), the tangent as B^T D B plus
 // the geometric term (elements/ContinuumKernel.hpp). No heap allocation once the outputs have
@@ -105,6 +105,64 @@ void Solid::forceJacobianFixed(const LocalState& s, MatX& dQdq, MatX& dQdv) cons
     K::addMaterial(-wt, B, DB, Kq);
     K::addGeometric(-wt, G, ps.S, Kq);
   }
+}
+
+// dQ/dp_k at fixed q, v: the chain rule through rho t (gravity, mass damping), alpha, and the
+// stress t F S with S(mu, lambda) + beta C0(mu, lambda0) : Edot (sums when several properties
+// are bound to the same parameter).
+template <int D, int N>
+void Solid::parameterDerivativeFixed(const LocalState& s, int k, VecX& dQ) const {
+  using K = continuum::Kernel<D, D, N>;
+  checkState(s);
+  const VecX& p = *s.p;
+  const Coefficients c = coefficients(p);
+  const double dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k), dBeta = props_->beta.boundTo(k);
+  const double rho = props_->density.value(p), drt = props_->density.boundTo(k) * c.t + rho * dT;
+  const material::LameDerivative dl = material::lameDerivative(
+      props_->E.value(p), props_->nu.value(p), props_->E.boundTo(k), props_->nu.boundTo(k), props_->law.planeStress());
+  const bool hasV = s.v.size() == s.x.size();
+  const Eigen::Map<const typename K::Nodal> X(s.x.data()), V(s.v.data());  // V read only when hasV
+  const Eigen::Map<const Eigen::Matrix<double, N, N>> M(massShape_.data());
+  dQ.resize(K::ND);
+  Eigen::Map<typename K::Nodal> Qn(dQ.data());
+  Qn.setZero();
+  if (s.gravity) Qn.noalias() += Eigen::Matrix<double, D, 1>(drt * *s.gravity) * M.colwise().sum();
+  if (hasV) Qn.noalias() -= (drt * c.alpha + rho * c.t * dAlpha) * V * M;
+  material::PointStress<D> ps;
+  for (const Point& P : pts_) {
+    const Eigen::Map<const typename K::Grad> G(P.G.data());
+    const typename K::Def F = X * G;
+    checkOrientation(F.determinant());
+    const material::Sym<D> C = F.transpose() * F;
+    if (!material::pointStress<D>(props_->law, C, c.mu, c.lam, false, ps)) throwUndefinedLaw(name());
+    const material::Sym<D> Ed = hasV ? K::strainRate(F, V * G) : material::Sym<D>::Zero();
+    const material::Sym<D> S = ps.S + c.beta * material::restElasticity<D>(c.mu, c.lamV, Ed);
+    const material::Sym<D> dS = material::stressParameterDerivative<D>(props_->law, C, c.mu, c.lam, dl.mu, dl.lam) +
+                                dBeta * material::restElasticity<D>(c.mu, c.lamV, Ed) +
+                                c.beta * material::restElasticity<D>(dl.mu, dl.lam0, Ed);
+    K::subtractStressForce(P.w, F, dT * S + c.t * dS, G, Qn);  // d(t F S)
+  }
+}
+
+bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
+  const double dRho = props_->density.boundTo(k), dT = props_->thickness.boundTo(k);
+  if (!(props_->E.boundTo(k) || props_->nu.boundTo(k) || dRho || dT || props_->alpha.boundTo(k) ||
+        props_->beta.boundTo(k)))
+    return false;
+  switch (shape_) {
+    case Simplex::Tri3: parameterDerivativeFixed<2, 3>(s, k, dQ); break;
+    case Simplex::Tri6: parameterDerivativeFixed<2, 6>(s, k, dQ); break;
+    case Simplex::Tet4: parameterDerivativeFixed<3, 4>(s, k, dQ); break;
+    case Simplex::Tet10: parameterDerivativeFixed<3, 10>(s, k, dQ); break;
+  }
+  const VecX& p = *s.p;
+  const double drt = dRho * props_->thickness.value(p) + props_->density.value(p) * dT;
+  const int d = dim_;
+  dM.setZero(n_ * d, n_ * d);
+  for (int i = 0; i < n_; ++i)
+    for (int j = 0; j < n_; ++j)
+      for (int c = 0; c < d; ++c) dM(i * d + c, j * d + c) = drt * massShape_(i, j);
+  return true;
 }
 
 void Solid::force(const LocalState& s, VecX& Q) const {
