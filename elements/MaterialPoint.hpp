@@ -87,6 +87,25 @@ bool pointStress(const MaterialLaw& law, const Sym<DM>& C, double mu, double lam
   return true;
 }
 
+/// The strain energy density W [J/m^3] of `law` at C = F^T F, as MaterialLaw::energy (planar:
+/// C33 = 1, or c from S33 = 0 in plane stress). Neo-Hookean needs det C > 0.
+template <int DM>
+double pointEnergy(const MaterialLaw& law, const Sym<DM>& C, double mu, double lam) {
+  if (law.law == Law::SaintVenantKirchhoff) {
+    const Sym<DM> E = 0.5 * (C - Sym<DM>::Identity());
+    const double tr = E.trace();
+    return 0.5 * law.lambdaUsed(mu, lam) * tr * tr + mu * E.squaredNorm();
+  }
+  const double lnD = std::log(C.determinant());
+  double I1 = C.trace() + (DM == 2 ? 1.0 : 0.0), lnJ = 0.5 * lnD;
+  if (law.planeStress()) {
+    const double c = planeStressC33(mu, lam, lnD);
+    I1 += c - 1.0;
+    lnJ += 0.5 * std::log(c);
+  }
+  return 0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lam * lnJ * lnJ;
+}
+
 /// dS = dS/dmu dmu + dS/dlambda dlam of `law` at C = F^T F (det C > 0 for neo-Hookean: the
 /// caller has evaluated pointStress there). As MaterialLaw::stressDerivatives.
 template <int DM>

@@ -48,12 +48,6 @@ void ShellTriangle::checkDim(const LocalState& s) const {
   if (s.dim != 3 || s.x.size() != 9) throw std::invalid_argument("shell triangle " + name() + ": spatial only (dim must be 3)");
 }
 
-MatX ShellTriangle::strain(const VecX& x) const {
-  MatX F = MatX::Zero(3, 2);
-  for (int i = 0; i < 3; ++i) F += x.segment<3>(3 * i) * G_.row(i);
-  return 0.5 * (F.transpose() * F - MatX::Identity(2, 2));
-}
-
 template <class T>
 void ShellTriangle::membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S,
                                     MatT<T>& sigma, MatT<T>& dev) const {
@@ -251,14 +245,11 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
 
 double ShellTriangle::potential(const LocalState& s) const {
   checkDim(s);
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
-  const MatX E = strain(s.x);
-  double U = A_ * t * props_->law.energy(E, material::mu(E0, nu), material::lambda(E0, nu));
-  if (s.gravity) {  // minus the work of gravity [J]
-    const double m = props_->density.value(p) * t * A_;
-    for (int i = 0; i < 3; ++i) U -= (m / 3.0) * s.gravity->dot(s.x.segment<3>(3 * i));
-  }
+  const Coefficients c = coefficients(*s.p);
+  const Membrane::Nodal X = Eigen::Map<const Membrane::Nodal>(s.x.data());
+  const Membrane::Def F = X * Eigen::Map<const Membrane::Grad>(G_.data());
+  double U = A_ * c.t * material::pointEnergy<2>(props_->law, F.transpose() * F, c.mu, c.lam);
+  if (s.gravity) U -= (c.m / 3.0) * (Eigen::Vector3d(*s.gravity).transpose() * X).sum();  // minus gravity's work [J]
   return U;
 }
 

@@ -45,8 +45,6 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
 
   double restArea() const { return A_; }  ///< [m^2]
-  /// Green-Lagrange membrane strain (2x2, in the rest basis t1, t2) at positions x (9) [-].
-  MatX strain(const VecX& x) const;
   /// For output, at s.x and the nominal values s.p: Green-Lagrange strain E and second
   /// Piola-Kirchhoff stress S as 3x3 tensors in the scene's axes (the rest plane's 2x2 ones
   /// rotated by the rest basis), the membrane Cauchy stress sigma = F S F^T / J (J the area

@@ -83,16 +83,6 @@ double Solid::lambdaRest(double mu, double lam) const {
   return props_->law.planeStress() ? material::planeStressLambda(mu, lam) : lam;
 }
 
-void Solid::kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const {
-  const int d = dim_;
-  F.setZero(d, d);
-  Fd.setZero(d, d);
-  for (int i = 0; i < n_; ++i) {
-    F += x.segment(i * d, d) * P.G.row(i);
-    if (v.size() == x.size()) Fd += v.segment(i * d, d) * P.G.row(i);
-  }
-}
-
 // ------------------------------------------------------------------ value templates
 // props = (E, nu, density, thickness, alpha, beta).
 template <class T>
@@ -144,27 +134,7 @@ VecT<T> Solid::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, c
 }
 
 // ------------------------------------------------------------------ analytic derivatives
-// force(), forceJacobian() and parameterDerivative(): SolidKernel.cpp.
-double Solid::potential(const LocalState& s) const {
-  const int d = dim_;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
-  const double t = props_->thickness.value(p), rt = props_->density.value(p) * t;
-  double U = 0.0;
-  MatX F, Fd;
-  const VecX none;
-  for (const Point& P : pts_) {
-    kinematics(P, s.x, none, F, Fd);
-    checkOrientation(F.determinant());
-    U += P.w * t * props_->law.energy(0.5 * (F.transpose() * F - MatX::Identity(d, d)), mu, lam);
-  }
-  if (s.gravity)  // minus the work of gravity, -G^T M x [J]
-    for (int i = 0; i < n_; ++i)
-      for (int j = 0; j < n_; ++j) U -= rt * massShape_(i, j) * s.gravity->dot(s.x.segment(i * d, d));
-  return U;
-}
-
+// force(), forceJacobian(), parameterDerivative() and potential(): SolidKernel.cpp.
 template <class T>
 void Solid::centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,
                             MatT<T>& dev) const {

@@ -84,8 +84,6 @@ class Solid : public KernelElement<Solid> {
     MatX G;    ///< dN_i/dX, nodes x dim [1/m]
     double w;  ///< weight times rest measure [m^2 or m^3]
   };
-  /// Per-point kinematics (double): F, E, Fd at state s.
-  void kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const;
   double lambdaRest(double mu, double lam) const;                 ///< lambda of C0
   /// Neo-Hookean: NumericalError naming the element when det F <= 0 (det C cannot tell).
   void checkOrientation(double detF) const;
@@ -106,6 +104,8 @@ class Solid : public KernelElement<Solid> {
   void forceJacobianFixed(const LocalState& s, MatX& dQdq, MatX& dQdv) const;
   template <int D, int N>
   void parameterDerivativeFixed(const LocalState& s, int k, VecX& dQ) const;
+  template <int D, int N>
+  double potentialFixed(const LocalState& s) const;
   /// centroidStress for any scalar: dev returns the deviatoric Cauchy stress (3 x 3).
   template <class T>
   void centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,

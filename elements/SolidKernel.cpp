@@ -1,4 +1,4 @@
-// The fixed-size force, force Jacobian and parameter derivative of the continuum elements (elements/Solid.hpp),
+// The fixed-size force, force Jacobian, parameter derivative and potential of the continuum elements (elements/Solid.hpp),
 // one instance per simplex: stack matrices of the element's size, the material's C, C^-1 and
 // det C once per quadrature point (elements/MaterialPoint.hpp), the tangent as B^T D B plus
 // the geometric term (elements/ContinuumKernel.hpp). No heap allocation once the outputs have
@@ -163,6 +163,36 @@ bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) 
     for (int j = 0; j < n_; ++j)
       for (int c = 0; c < d; ++c) dM(i * d + c, j * d + c) = drt * massShape_(i, j);
   return true;
+}
+
+// U = sum_points w t W(C) - G^T M x [J].
+template <int D, int N>
+double Solid::potentialFixed(const LocalState& s) const {
+  using K = continuum::Kernel<D, D, N>;
+  checkState(s);
+  const Coefficients c = coefficients(*s.p);
+  const Eigen::Map<const typename K::Nodal> X(s.x.data());
+  double U = 0.0;
+  for (const Point& P : pts_) {
+    const typename K::Def F = X * Eigen::Map<const typename K::Grad>(P.G.data());
+    checkOrientation(F.determinant());
+    U += P.w * c.t * material::pointEnergy<D>(props_->law, F.transpose() * F, c.mu, c.lam);
+  }
+  if (s.gravity) {  // minus the work of gravity
+    const Eigen::Map<const Eigen::Matrix<double, N, N>> M(massShape_.data());
+    U -= c.rt * (Eigen::Matrix<double, D, 1>(*s.gravity).transpose() * X * M).sum();
+  }
+  return U;
+}
+
+double Solid::potential(const LocalState& s) const {
+  switch (shape_) {
+    case Simplex::Tri3: return potentialFixed<2, 3>(s);
+    case Simplex::Tri6: return potentialFixed<2, 6>(s);
+    case Simplex::Tet4: return potentialFixed<3, 4>(s);
+    case Simplex::Tet10: return potentialFixed<3, 10>(s);
+  }
+  return 0.0;
 }
 
 void Solid::force(const LocalState& s, VecX& Q) const {
