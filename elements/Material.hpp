@@ -13,9 +13,9 @@
 //    ln J = (ln det C + ln c) / 2 (Newton in double; for AD one more Newton step in T, which
 //    carries the exact first derivatives of the implicit c); then S = mu (I - c C^-1).
 //
-// Each law gives S (value template, for the force kernel and AD), its tangent dS = C : dE
-// applied to a symmetric dE, and dS/dmu, dS/dlambda (double, for the analytic Jacobian and
-// parameter derivatives). Units: mu, lambda, S [Pa]; E, C [-]; W [J/m^3].
+// Each law gives S as a value template (the force templates the AD kernels differentiate);
+// elements/MaterialPoint.hpp evaluates the same laws in fixed size with their tangent dS/dE,
+// dS/dmu, dS/dlambda and W for the analytic kernels. Units: mu, lambda, S [Pa]; E, C [-]; W [J/m^3].
 #pragma once
 
 #include <cmath>
@@ -121,71 +121,6 @@ struct MaterialLaw {
     if (!planeStress()) return mu * (I - Ci) + (lam * 0.5 * log(D)) * Ci;
     const T c = c33(mu, lam, D);
     return mu * (I - c * Ci);
-  }
-
-  /// Strain energy density W(E) [J/m^3] (double, for potential()).
-  double energy(const MatX& E, double mu, double lam) const {
-    const int d = static_cast<int>(E.rows());
-    if (law == Law::SaintVenantKirchhoff) {
-      const double tr = E.trace();
-      return 0.5 * lambdaUsed(mu, lam) * tr * tr + mu * (E.array() * E.array()).sum();
-    }
-    const MatX C = 2.0 * E + MatX::Identity(d, d);
-    const double D = material::det<double>(C);
-    double I1 = C.trace() + (d == 2 ? 1.0 : 0.0), lnJ = 0.5 * std::log(D);
-    if (planeStress()) {
-      const double c = material::planeStressC33(mu, lam, std::log(D));
-      I1 += c - 1.0;
-      lnJ += 0.5 * std::log(c);
-    }
-    return 0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lam * lnJ * lnJ;
-  }
-
-  /// dS = (dS/dE) : dE for a symmetric dE, at strain E (double).
-  MatX tangent(const MatX& E, double mu, double lam, const MatX& dE) const {
-    const int d = static_cast<int>(E.rows());
-    const MatX I = MatX::Identity(d, d);
-    if (law == Law::SaintVenantKirchhoff) return lambdaUsed(mu, lam) * dE.trace() * I + 2.0 * mu * dE;
-    const MatX C = 2.0 * E + I;
-    const double D = material::det<double>(C);
-    const MatX Ci = material::inverse<double>(C);
-    const double tr = (Ci * dE).trace();
-    if (!planeStress())  // dS = 2 (mu - lambda ln J) C^-1 dE C^-1 + lambda tr(C^-1 dE) C^-1
-      return 2.0 * (mu - lam * 0.5 * std::log(D)) * Ci * dE * Ci + lam * tr * Ci;
-    // S = mu (I - c C^-1), dc = -(lambda/2) tr(C^-1 dC) / (mu + lambda / (2 c)), dC = 2 dE
-    const double c = material::planeStressC33(mu, lam, std::log(D));
-    return 2.0 * mu * c * Ci * dE * Ci + (mu * lam / (mu + 0.5 * lam / c)) * tr * Ci;
-  }
-
-  /// dS/dmu and dS/dlambda at strain E (double).
-  void stressDerivatives(const MatX& E, double mu, double lam, MatX& dSmu, MatX& dSlam) const {
-    const int d = static_cast<int>(E.rows());
-    const MatX I = MatX::Identity(d, d);
-    if (law == Law::SaintVenantKirchhoff) {
-      double lMu = 0.0, lLam = 1.0;  // d lambdaUsed / d(mu, lambda)
-      if (planeStress()) {
-        const double s = lam + 2.0 * mu;
-        lMu = 2.0 * lam * lam / (s * s);
-        lLam = 4.0 * mu * mu / (s * s);
-      }
-      dSmu = lMu * E.trace() * I + 2.0 * E;
-      dSlam = lLam * E.trace() * I;
-      return;
-    }
-    const MatX C = 2.0 * E + I;
-    const double D = material::det<double>(C);
-    const MatX Ci = material::inverse<double>(C);
-    if (!planeStress()) {
-      dSmu = I - Ci;
-      dSlam = 0.5 * std::log(D) * Ci;
-      return;
-    }
-    // S = mu (I - c C^-1); f(c; mu, lambda) = mu (c - 1) + lambda ln J = 0 gives
-    // dc/dmu = -(c - 1) / f_c, dc/dlambda = -ln J / f_c.
-    const double c = material::planeStressC33(mu, lam, std::log(D));
-    const double fc = mu + 0.5 * lam / c, lnJ = 0.5 * (std::log(D) + std::log(c));
-    dSmu = (I - c * Ci) + mu * ((c - 1.0) / fc) * Ci;
-    dSlam = mu * (lnJ / fc) * Ci;
   }
 
  private:

@@ -27,8 +27,8 @@ ShellClampHinge::ShellClampHinge(std::string name, std::vector<int> nodes, std::
   w_ = e.squaredNorm() / A;
 }
 
-VecX ShellClampHinge::withGhost(const VecX& x) const {
-  VecX y(12);
+shell::Vec12 ShellClampHinge::withGhost(const VecX& x) const {
+  shell::Vec12 y;
   y << x, ghost_;
   return y;
 }
@@ -38,7 +38,11 @@ void ShellClampHinge::checkDim(const LocalState& s) const {
 }
 
 double ShellClampHinge::rotation(const VecX& x) const {
-  return ad::wrapAngle(ShellHinge::dihedralAngle(withGhost(x), nullptr, nullptr, "shell clamp " + name()) - phi0_);
+  double phi;
+  shell::Vec12 g;
+  if (!shell::angleDerivatives(withGhost(x), phi, g, nullptr))
+    throw NumericalError(shell::degenerateMessage("shell clamp " + name()));
+  return ad::wrapAngle(phi - phi0_);
 }
 
 // Value template: props = (E, nu, thickness, beta). Q = -D w (phi + beta dphi/dt) grad phi,
@@ -60,35 +64,53 @@ VecT<T> ShellClampHinge::forceT(const LocalState& s, const VecT<T>& x, const Vec
   return -(D * w_ * (dev + props[3] * rate)) * g9;
 }
 
-void ShellClampHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+// Fixed size, no heap once the outputs have their size; the ghost is fixed, so the derivatives
+// are the x-blocks (the first 9 entries) of the 4-node angle's.
+void ShellClampHinge::bendingState(const LocalState& s, double& Dw, double& dev, Eigen::Matrix<double, 9, 1>& g,
+                                   Eigen::Matrix<double, 9, 9>* H) const {
   checkDim(s);
-  VecX g;
-  MatX H;
-  const double phi = ShellHinge::dihedralAngle(withGhost(s.x), &g, &H, "shell clamp " + name());
+  double phi;
+  shell::Vec12 g12;
+  shell::Mat12 H12;
+  if (!shell::angleDerivatives(withGhost(s.x), phi, g12, H ? &H12 : nullptr))
+    throw NumericalError(shell::degenerateMessage("shell clamp " + name()));
+  g = g12.head<9>();
+  if (H) *H = H12.topLeftCorner<9, 9>();
   const VecX& p = *s.p;
-  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  // the ghost is fixed: the x-blocks of the 4-node angle's derivatives
-  shell::bendingJacobians(D * w_, props_->beta.value(p), ad::wrapAngle(phi - phi0_), g.head(9), H.topLeftCorner(9, 9),
-                          s.v, dQdq, dQdv);
+  Dw = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p)) * w_;
+  dev = ad::wrapAngle(phi - phi0_);
+}
+
+void ShellClampHinge::force(const LocalState& s, VecX& Q) const {
+  double Dw, dev;
+  Eigen::Matrix<double, 9, 1> g;
+  bendingState(s, Dw, dev, g, nullptr);
+  shell::bendingForce<9>(Dw, props_->beta.value(*s.p), dev, g, s.v, Q);
+}
+
+void ShellClampHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  double Dw, dev;
+  Eigen::Matrix<double, 9, 1> g;
+  Eigen::Matrix<double, 9, 9> H;
+  bendingState(s, Dw, dev, g, &H);
+  shell::bendingJacobians<9>(Dw, props_->beta.value(*s.p), dev, g, H, s.v, dQdq, dQdv);
 }
 
 bool ShellClampHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  double D, dD, beta, dBeta;
+  double D, dD, beta, dBeta, Dw, dev;
   if (!props_->bendingDerivative(*s.p, k, D, dD, beta, dBeta)) return false;
-  checkDim(s);
-  VecX g;
-  const double dev = ad::wrapAngle(ShellHinge::dihedralAngle(withGhost(s.x), &g, nullptr, "shell clamp " + name()) - phi0_);
-  dQ = shell::bendingParameterDerivative(D * w_, dD * w_, beta, dBeta, dev, g.head(9), s.v);
+  Eigen::Matrix<double, 9, 1> g;
+  bendingState(s, Dw, dev, g, nullptr);
+  shell::bendingParameterDerivative<9>(Dw, dD * w_, beta, dBeta, dev, g, s.v, dQ);
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }
 
 double ShellClampHinge::potential(const LocalState& s) const {
-  checkDim(s);
-  const VecX& p = *s.p;
-  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  const double dev = rotation(s.x);
-  return 0.5 * D * w_ * dev * dev;  // [J]
+  double Dw, dev;
+  Eigen::Matrix<double, 9, 1> g;
+  bendingState(s, Dw, dev, g, nullptr);
+  return 0.5 * Dw * dev * dev;  // [J]
 }
 
 template class KernelElement<ShellClampHinge>;

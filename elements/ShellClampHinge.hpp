@@ -40,7 +40,11 @@ class ShellClampHinge : public KernelElement<ShellClampHinge> {
   /// std::invalid_argument for a zero rest edge or triangle.
   ShellClampHinge(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX);
   std::string kind() const override { return "shell_clamp"; }
+  /// Q and its Jacobians in fixed size (no heap); kernelForce() and the AD Jacobians evaluate
+  /// the value template forceT instead.
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return props_->bendingDamped(); }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
@@ -53,7 +57,10 @@ class ShellClampHinge : public KernelElement<ShellClampHinge> {
   friend class KernelElement<ShellClampHinge>;
   void checkDim(const LocalState& s) const;
   /// x (9) and the ghost: the 12 positions of ShellHinge::dihedralAngle.
-  VecX withGhost(const VecX& x) const;
+  Eigen::Matrix<double, 12, 1> withGhost(const VecX& x) const;
+  /// D w [N m], phi wrapped [rad], grad phi (9) and, when H is given, its Hessian at s.x.
+  void bendingState(const LocalState& s, double& Dw, double& dev, Eigen::Matrix<double, 9, 1>& g,
+                    Eigen::Matrix<double, 9, 9>* H) const;
   std::vector<const Quantity*> kernelProperties() const {
     return {&props_->E, &props_->nu, &props_->thickness, &props_->beta};
   }

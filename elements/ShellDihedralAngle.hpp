@@ -48,22 +48,53 @@ inline std::string degenerateMessage(const std::string& who) {
   return who + ": a triangle of the hinge has zero area (or its edge zero length): the dihedral angle is undefined";
 }
 
+using Vec12 = Eigen::Matrix<double, 12, 1>;
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+
+/// theta, its gradient (12) and, when hess is given, its Hessian (12 x 12) at x (12), in fixed
+/// size (ShellHinge.cpp); false for a zero edge or triangle.
+bool angleDerivatives(const Vec12& x, double& theta, Vec12& grad, Mat12* hess);
+
 /// The bending law of a hinge or clamp on an angle with deviation dev from rest, gradient g and
-/// Hessian H (positions x): Q = -D w (dev + beta g.v) g, the Kelvin-Voigt moment included.
+/// Hessian H (M positions x): Q = -D w (dev + beta g.v) g, the Kelvin-Voigt moment included.
 /// Its analytic Jacobians: dQ/dq = -D w (g (g + beta H v)^T + (dev + beta g.v) H) [N/m],
-/// dQ/dv = -D w beta g g^T [N s/m]; v empty means zero velocities.
-inline void bendingJacobians(double Dw, double beta, double dev, const VecX& g, const MatX& H, const VecX& v,
-                             MatX& dQdq, MatX& dQdv) {
-  const VecX w = v.size() == g.size() ? v : VecX(VecX::Zero(g.size()));
-  dQdq = -Dw * (g * (g + beta * (H * w)).transpose() + (dev + beta * g.dot(w)) * H);
-  dQdv = -(Dw * beta) * (g * g.transpose());
+/// dQ/dv = -D w beta g g^T [N s/m]; v empty means zero velocities. No heap once dQdq and dQdv
+/// have their size.
+template <int M>
+void bendingJacobians(double Dw, double beta, double dev, const Eigen::Matrix<double, M, 1>& g,
+                      const Eigen::Matrix<double, M, M>& H, const VecX& v, MatX& dQdq, MatX& dQdv) {
+  dQdq.resize(M, M);
+  dQdv.resize(M, M);
+  Eigen::Map<Eigen::Matrix<double, M, M>> Kq(dQdq.data()), Kv(dQdv.data());
+  Eigen::Matrix<double, M, 1> dir = g;  // g + beta H v
+  double moment = dev;                  // dev + beta g.v
+  if (beta != 0.0 && v.size() == M) {
+    const Eigen::Map<const Eigen::Matrix<double, M, 1>> w(v.data());
+    dir.noalias() += beta * (H * w);
+    moment += beta * g.dot(w);
+  }
+  Kq.noalias() = (-Dw * moment) * H;
+  Kq.noalias() -= (Dw * g) * dir.transpose();
+  if (beta != 0.0) Kv.noalias() = (-Dw * beta * g) * g.transpose();
+  else Kv.setZero();
+}
+
+/// Q of the same law: -D w (dev + beta g.v) g.
+template <int M>
+void bendingForce(double Dw, double beta, double dev, const Eigen::Matrix<double, M, 1>& g, const VecX& v, VecX& Q) {
+  double moment = dev;
+  if (beta != 0.0 && v.size() == M) moment += beta * g.dot(Eigen::Map<const Eigen::Matrix<double, M, 1>>(v.data()));
+  Q.resize(M);
+  Eigen::Map<Eigen::Matrix<double, M, 1>>(Q.data()) = (-Dw * moment) * g;
 }
 
 /// dQ/dp of the same law, for d(D w)/dp = dDw and dbeta/dp = dBeta.
-inline VecX bendingParameterDerivative(double Dw, double dDw, double beta, double dBeta, double dev, const VecX& g,
-                                       const VecX& v) {
-  const double rate = v.size() == g.size() ? g.dot(v) : 0.0;
-  return -(dDw * (dev + beta * rate) + Dw * dBeta * rate) * g;
+template <int M>
+void bendingParameterDerivative(double Dw, double dDw, double beta, double dBeta, double dev,
+                                const Eigen::Matrix<double, M, 1>& g, const VecX& v, VecX& dQ) {
+  const double rate = v.size() == M ? g.dot(Eigen::Map<const Eigen::Matrix<double, M, 1>>(v.data())) : 0.0;
+  dQ.resize(M);
+  Eigen::Map<Eigen::Matrix<double, M, 1>>(dQ.data()) = -(dDw * (dev + beta * rate) + Dw * dBeta * rate) * g;
 }
 
 }  // namespace flexsens::shell

@@ -17,63 +17,94 @@ namespace flexsens {
 // x-derivatives through x0 = -(e + a + b) terms: d/dx0 = -(d/de + d/da + d/db), d/dx1 = d/de,
 // d/dx2 = d/da, d/dx3 = d/db.
 
+namespace shell {
+
 namespace {
+using V9 = Eigen::Matrix<double, 9, 1>;
+using M9 = Eigen::Matrix<double, 9, 9>;
 
-using triad::V3;
-using triad::cross;
-using triad::skew;
-
-using shell::angleT;
-
-/// d(e, a, b)/d(x0, x1, x2, x3), 9 x 12.
-MatX edgeMap() {
-  MatX B = MatX::Zero(9, 12);
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  for (int k = 0; k < 3; ++k) {
-    B.block<3, 3>(3 * k, 0) = -I;
-    B.block<3, 3>(3 * k, 3 * (k + 1)) = I;
-  }
-  return B;
+/// M.block(3c, 3r) = M.block(3r, 3c)^T for the blocks above the diagonal.
+void mirrorUpperBlocks(M9& M) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = r + 1; c < 3; ++c) M.block<3, 3>(3 * c, 3 * r) = M.block<3, 3>(3 * r, 3 * c).transpose();
 }
 
+/// The Hessian of theta in the edge variables u = (e, a, b) (9 x 9) from X, Y, det and the
+/// gradients gX, gD (of det), gY and gT (of theta) in u.
+M9 edgeHessian(const Eigen::Vector3d& e, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double X, double Y,
+               double det, const V9& gX, const V9& gD, const V9& gY, const V9& gT) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double ee = e.dot(e), ea = e.dot(a), eb = e.dot(b), ab = a.dot(b), L = std::sqrt(ee), R = X * X + Y * Y;
+  M9 HX = M9::Zero(), HD = M9::Zero();
+  HX.block<3, 3>(0, 0) = a * b.transpose() + b * a.transpose() - 2.0 * ab * I;
+  HX.block<3, 3>(0, 3) = eb * I + b * e.transpose() - 2.0 * e * b.transpose();
+  HX.block<3, 3>(0, 6) = a * e.transpose() + ea * I - 2.0 * e * a.transpose();
+  HX.block<3, 3>(3, 6) = e * e.transpose() - ee * I;
+  HD.block<3, 3>(0, 3) = -triad::skew(b);
+  HD.block<3, 3>(0, 6) = triad::skew(a);
+  HD.block<3, 3>(3, 6) = -triad::skew(e);
+  mirrorUpperBlocks(HX);
+  mirrorUpperBlocks(HD);
+  // HY = gL gD^T + gD gL^T + det HL + L HD, gL = (e / L, 0, 0), HL = (I - e e^T / ee) / L on (e, e)
+  M9 HY = L * HD;
+  const Eigen::Vector3d gLe = e / L;
+  HY.topRows<3>().noalias() += gLe * gD.transpose();
+  HY.leftCols<3>().noalias() += gD * gLe.transpose();
+  HY.topLeftCorner<3, 3>() += (det / L) * (I - gLe * gLe.transpose());
+  M9 Hu = (X / R) * HY - (Y / R) * HX;
+  Hu.noalias() += (gY / R) * gX.transpose();
+  Hu.noalias() -= (gX / R) * gY.transpose();
+  Hu.noalias() -= gT * ((2.0 / R) * (X * gX + Y * gY)).transpose();
+  return Hu;
+}
+
+/// H = B^T Hu B, the Hessian in x from the one in u (x0 enters every edge variable with -I).
+void toPositions(const M9& Hu, Mat12& H) {
+  H.bottomRightCorner<9, 9>() = Hu;
+  Eigen::Matrix3d corner = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Matrix3d col = Hu.block<3, 3>(0, 3 * k) + Hu.block<3, 3>(3, 3 * k) + Hu.block<3, 3>(6, 3 * k);
+    const Eigen::Matrix3d row = Hu.block<3, 3>(3 * k, 0) + Hu.block<3, 3>(3 * k, 3) + Hu.block<3, 3>(3 * k, 6);
+    H.block<3, 3>(0, 3 + 3 * k) = -col;
+    H.block<3, 3>(3 + 3 * k, 0) = -row;
+    corner += col;
+  }
+  H.topLeftCorner<3, 3>() = corner;
+}
 }  // namespace
+
+bool angleDerivatives(const Vec12& x, double& theta, Vec12& grad, Mat12* hess) {
+  const Eigen::Vector3d x0 = x.segment<3>(0);
+  const Eigen::Vector3d e = x.segment<3>(3) - x0, a = x.segment<3>(6) - x0, b = x.segment<3>(9) - x0;
+  const double ee = e.dot(e), ea = e.dot(a), eb = e.dot(b), ab = a.dot(b);
+  if (!(ee > 0.0)) return false;
+  const double L = std::sqrt(ee);
+  const Eigen::Vector3d axb = a.cross(b);
+  const double det = e.dot(axb), X = ea * eb - ee * ab, Y = L * det, R = X * X + Y * Y;
+  if (!(std::sqrt(R) > kDegenerateTol * ee * ee)) return false;
+  V9 gX, gD;
+  gX << eb * a + ea * b - 2.0 * ab * e, eb * e - ee * b, ea * e - ee * a;
+  gD << axb, b.cross(e), e.cross(a);
+  V9 gY = L * gD;
+  gY.head<3>() += (det / L) * e;
+  const V9 gT = (X * gY - Y * gX) / R;
+  theta = std::atan2(Y, X);
+  grad.head<3>() = -(gT.segment<3>(0) + gT.segment<3>(3) + gT.segment<3>(6));
+  grad.tail<9>() = gT;
+  if (hess) toPositions(edgeHessian(e, a, b, X, Y, det, gX, gD, gY, gT), *hess);
+  return true;
+}
+
+}  // namespace shell
 
 double ShellHinge::dihedralAngle(const VecX& x, VecX* grad, MatX* hess, const std::string& who) {
   if (x.size() != 12) throw std::invalid_argument(who + ": positions of 4 nodes in 3D (12 entries) expected");
   double theta;
-  VecX g;
-  if (!angleT<double>(x, theta, g)) throw NumericalError(shell::degenerateMessage(who));
+  shell::Vec12 g;
+  shell::Mat12 H;
+  if (!shell::angleDerivatives(x, theta, g, hess ? &H : nullptr)) throw NumericalError(shell::degenerateMessage(who));
   if (grad) *grad = g;
-  if (hess) {
-    const Eigen::Vector3d x0 = x.segment<3>(0);
-    const Eigen::Vector3d e = x.segment<3>(3) - x0, a = x.segment<3>(6) - x0, b = x.segment<3>(9) - x0;
-    const double ee = e.dot(e), ea = e.dot(a), eb = e.dot(b), ab = a.dot(b), L = std::sqrt(ee);
-    const double det = e.dot(a.cross(b)), X = ea * eb - ee * ab, Y = L * det, R = X * X + Y * Y;
-    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-    VecX gX(9), gD(9), gL = VecX::Zero(9);
-    gX << eb * a + ea * b - 2.0 * ab * e, eb * e - ee * b, ea * e - ee * a;
-    gD << a.cross(b), b.cross(e), e.cross(a);
-    gL.head<3>() = e / L;
-    const VecX gY = det * gL + L * gD;
-    MatX HX = MatX::Zero(9, 9), HD = MatX::Zero(9, 9), HL = MatX::Zero(9, 9);
-    HX.block<3, 3>(0, 0) = a * b.transpose() + b * a.transpose() - 2.0 * ab * I;
-    HX.block<3, 3>(0, 3) = eb * I + b * e.transpose() - 2.0 * e * b.transpose();
-    HX.block<3, 3>(0, 6) = a * e.transpose() + ea * I - 2.0 * e * a.transpose();
-    HX.block<3, 3>(3, 6) = e * e.transpose() - ee * I;
-    HD.block<3, 3>(0, 3) = -skew(b);
-    HD.block<3, 3>(0, 6) = skew(a);
-    HD.block<3, 3>(3, 6) = -skew(e);
-    for (MatX* H : {&HX, &HD})  // the lower blocks by symmetry
-      for (int r = 0; r < 3; ++r)
-        for (int c = r + 1; c < 3; ++c) H->block<3, 3>(3 * c, 3 * r) = H->block<3, 3>(3 * r, 3 * c).transpose();
-    HL.block<3, 3>(0, 0) = (I - e * e.transpose() / ee) / L;
-    const MatX HY = gL * gD.transpose() + gD * gL.transpose() + det * HL + L * HD;
-    const VecX gT = (X * gY - Y * gX) / R;
-    const MatX Hu = (X * HY - Y * HX + gY * gX.transpose() - gX * gY.transpose()) / R -
-                    gT * (2.0 * X * gX + 2.0 * Y * gY).transpose() / R;
-    const MatX B = edgeMap();
-    *hess = B.transpose() * Hu * B;
-  }
+  if (hess) *hess = H;
   return theta;
 }
 
@@ -105,40 +136,54 @@ VecT<T> ShellHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&
   checkDim(s);
   T theta;
   VecT<T> g;
-  if (!angleT<T>(x, theta, g)) throw NumericalError(shell::degenerateMessage("shell hinge " + name()));
+  if (!shell::angleT<T>(x, theta, g)) throw NumericalError(shell::degenerateMessage("shell hinge " + name()));
   const T D = shell::bendingStiffness(props[0], props[1], props[2]);
   const T dev = ad::wrapAngle(T(theta - theta0_));
   const T rate = v.size() == x.size() ? T(g.dot(v)) : T(0.0);
   return -(D * w_ * (dev + props[3] * rate)) * g;
 }
 
-void ShellHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+// Fixed size, no heap once the outputs have their size: the angle, its gradient and Hessian on
+// the stack (shell::angleDerivatives); the element's name only in an error message.
+void ShellHinge::bendingState(const LocalState& s, double& Dw, double& dev, shell::Vec12& g, shell::Mat12* H) const {
   checkDim(s);
-  VecX g;
-  MatX H;
-  const double theta = dihedralAngle(s.x, &g, &H, "shell hinge " + name());
+  double theta;
+  if (!shell::angleDerivatives(s.x, theta, g, H)) throw NumericalError(shell::degenerateMessage("shell hinge " + name()));
   const VecX& p = *s.p;
-  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  shell::bendingJacobians(D * w_, props_->beta.value(p), ad::wrapAngle(theta - theta0_), g, H, s.v, dQdq, dQdv);
+  Dw = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p)) * w_;
+  dev = ad::wrapAngle(theta - theta0_);
+}
+
+void ShellHinge::force(const LocalState& s, VecX& Q) const {
+  double Dw, dev;
+  shell::Vec12 g;
+  bendingState(s, Dw, dev, g, nullptr);
+  shell::bendingForce<12>(Dw, props_->beta.value(*s.p), dev, g, s.v, Q);
+}
+
+void ShellHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  double Dw, dev;
+  shell::Vec12 g;
+  shell::Mat12 H;
+  bendingState(s, Dw, dev, g, &H);
+  shell::bendingJacobians<12>(Dw, props_->beta.value(*s.p), dev, g, H, s.v, dQdq, dQdv);
 }
 
 bool ShellHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  double D, dD, beta, dBeta;
+  double D, dD, beta, dBeta, Dw, dev;
   if (!props_->bendingDerivative(*s.p, k, D, dD, beta, dBeta)) return false;
-  checkDim(s);
-  VecX g;
-  const double dev = ad::wrapAngle(dihedralAngle(s.x, &g, nullptr, "shell hinge " + name()) - theta0_);
-  dQ = shell::bendingParameterDerivative(D * w_, dD * w_, beta, dBeta, dev, g, s.v);
+  shell::Vec12 g;
+  bendingState(s, Dw, dev, g, nullptr);
+  shell::bendingParameterDerivative<12>(Dw, dD * w_, beta, dBeta, dev, g, s.v, dQ);
   dM.resize(0, 0);  // massless, as the AD kernel reports it
   return true;
 }
 
 double ShellHinge::potential(const LocalState& s) const {
-  checkDim(s);
-  const VecX& p = *s.p;
-  const double D = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p));
-  const double dev = ad::wrapAngle(dihedralAngle(s.x, nullptr, nullptr, "shell hinge " + name()) - theta0_);
-  return 0.5 * D * w_ * dev * dev;  // [J]
+  double Dw, dev;
+  shell::Vec12 g;
+  bendingState(s, Dw, dev, g, nullptr);
+  return 0.5 * Dw * dev * dev;  // [J]
 }
 
 template class KernelElement<ShellHinge>;

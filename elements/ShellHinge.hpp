@@ -48,7 +48,11 @@ class ShellHinge : public KernelElement<ShellHinge> {
   ShellHinge(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX,
              bool flatRest = false);
   std::string kind() const override { return "shell_hinge"; }
+  /// Q and its Jacobians in fixed size (no heap); kernelForce() and the AD Jacobians evaluate
+  /// the value template forceT instead.
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return props_->bendingDamped(); }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
@@ -63,6 +67,10 @@ class ShellHinge : public KernelElement<ShellHinge> {
  private:
   friend class KernelElement<ShellHinge>;
   void checkDim(const LocalState& s) const;
+  /// D w [N m], theta - theta0 wrapped [rad], grad theta (12) and, when H is given, its
+  /// Hessian at s.x.
+  void bendingState(const LocalState& s, double& Dw, double& dev, Eigen::Matrix<double, 12, 1>& g,
+                    Eigen::Matrix<double, 12, 12>* H) const;
   std::vector<const Quantity*> kernelProperties() const {
     return {&props_->E, &props_->nu, &props_->thickness, &props_->beta};
   }

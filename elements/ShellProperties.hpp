@@ -27,6 +27,9 @@ struct ShellProperties {
   /// The bending stiffness D [N m] and beta [s] at p and their derivatives along parameter k
   /// (the chain rule over E, nu, thickness); false when neither depends on p_k.
   bool bendingDerivative(const VecX& p, int k, double& D, double& dD, double& b, double& dB) const;
+  /// False when a damping can never be nonzero (constant 0): the forces then never depend on v.
+  bool damped() const { return alpha.param >= 0 || alpha.constant != 0.0 || bendingDamped(); }
+  bool bendingDamped() const { return beta.param >= 0 || beta.constant != 0.0; }  ///< beta's alone
   std::vector<std::pair<std::string, Quantity*>> properties() {
     return {{"E", &E}, {"nu", &nu}, {"density", &density}, {"thickness", &thickness}, {"alpha", &alpha}, {"beta", &beta}};
   }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "elements/ContinuumKernel.hpp"
 #include "elements/KernelElementAD.hpp"
 #include "elements/StressDerivative.hpp"
 #include "elements/SimplexShape.hpp"  // fmtNumber
@@ -43,24 +44,8 @@ ShellTriangle::ShellTriangle(std::string name, std::vector<int> nodes, std::shar
   basis_ << t1, t2;
 }
 
-void ShellTriangle::kinematics(const LocalState& s, MatX& F, MatX& Fd) const {
-  F = MatX::Zero(3, 2);
-  Fd = MatX::Zero(3, 2);
-  const bool hasV = s.v.size() == s.x.size();
-  for (int i = 0; i < 3; ++i) {
-    F += s.x.segment<3>(3 * i) * G_.row(i);
-    if (hasV) Fd += s.v.segment<3>(3 * i) * G_.row(i);
-  }
-}
-
 void ShellTriangle::checkDim(const LocalState& s) const {
   if (s.dim != 3 || s.x.size() != 9) throw std::invalid_argument("shell triangle " + name() + ": spatial only (dim must be 3)");
-}
-
-MatX ShellTriangle::strain(const VecX& x) const {
-  MatX F = MatX::Zero(3, 2);
-  for (int i = 0; i < 3; ++i) F += x.segment<3>(3 * i) * G_.row(i);
-  return 0.5 * (F.transpose() * F - MatX::Identity(2, 2));
 }
 
 template <class T>
@@ -141,89 +126,130 @@ VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<
   return Q;
 }
 
-// ------------------------------------------------------------------ analytic derivatives
-void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  checkDim(s);
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
-  const double m = props_->density.value(p) * t * A_, alpha = props_->alpha.value(p);
-  const double beta = props_->beta.value(p), lamStar = material::planeStressLambda(mu, lam);
-  dQdq.setZero(9, 9);
-  dQdv.setZero(9, 9);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) dQdv.block<3, 3>(3 * i, 3 * j) = -(alpha * m * massShape(i, j)) * Eigen::Matrix3d::Identity();
-  MatX F, Fd;
-  kinematics(s, F, Fd);
-  const MatX I = MatX::Identity(2, 2);
-  const MatX E = 0.5 * (F.transpose() * F - I), Bv = F.transpose() * Fd, Ed = 0.5 * (Bv + Bv.transpose());
-  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name()) + beta * elasticity0(mu, lamStar, Ed);
-  for (int j = 0; j < 3; ++j)
-    for (int c = 0; c < 3; ++c) {
-      MatX dF = MatX::Zero(3, 2);
-      dF.row(c) = G_.row(j);
-      const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
-      const MatX Bd = dF.transpose() * Fd, dEd = 0.5 * (Bd + Bd.transpose());
-      const MatX dS = props_->law.tangent(E, mu, lam, dE) + beta * elasticity0(mu, lamStar, dEd);
-      const MatX dP = dF * S + F * dS;                               // d(F S)/dx_jc
-      const MatX dPv = beta * F * elasticity0(mu, lamStar, dE);      // d(F S)/dv_jc
-      for (int i = 0; i < 3; ++i) {
-        dQdq.block(3 * i, 3 * j + c, 3, 1) = -(A_ * t) * dP * G_.row(i).transpose();
-        dQdv.block(3 * i, 3 * j + c, 3, 1) -= (A_ * t) * dPv * G_.row(i).transpose();
-      }
-    }
+// ------------------------------------------------------------------ fixed-size kernels
+// Stack matrices (elements/ContinuumKernel.hpp with 3 coordinates on the 2D rest plane), the
+// law's C^-1 and c once (elements/MaterialPoint.hpp), no heap once the outputs have their size.
+namespace {
+using Membrane = continuum::Kernel<3, 2, 3>;
+[[noreturn]] void throwUndefinedLaw(const std::string& name) {
+  throw NumericalError("shell triangle " + name + ": inverted (det F <= 0): the neo-Hookean law is undefined");
+}
+}  // namespace
+
+ShellTriangle::Coefficients ShellTriangle::coefficients(const VecX& p) const {
+  Coefficients c;
+  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
+  c.mu = material::mu(E0, nu);
+  c.lam = material::lambda(E0, nu);
+  c.lamStar = material::planeStressLambda(c.mu, c.lam);
+  c.t = props_->thickness.value(p);
+  c.m = props_->density.value(p) * c.t * A_;
+  c.alpha = props_->alpha.value(p);
+  c.beta = props_->beta.value(p);
+  return c;
 }
 
+// Q_i = m/3 g - alpha m sum_j (1 + delta_ij)/12 v_j - A t (F S) G_i (ShellTriangle.hpp).
+void ShellTriangle::force(const LocalState& s, VecX& Q) const {
+  checkDim(s);
+  const Coefficients c = coefficients(*s.p);
+  const bool hasV = s.v.size() == s.x.size();
+  Q.resize(9);
+  Eigen::Map<Membrane::Nodal> Qn(Q.data());
+  Qn.setZero();
+  if (s.gravity) Qn.colwise() += Eigen::Vector3d((c.m / 3.0) * *s.gravity);
+  const Eigen::Map<const Membrane::Nodal> V(s.v.data());  // read only when hasV
+  if (hasV && c.alpha != 0.0)  // sum_j (1 + delta_ij)/12 v_j = (v_i + sum_j v_j) / 12
+    Qn -= (c.alpha * c.m / 12.0) * (V.colwise() + V.rowwise().sum());
+  const Eigen::Map<const Membrane::Grad> G(G_.data());
+  const Membrane::Def F = Eigen::Map<const Membrane::Nodal>(s.x.data()) * G;
+  material::PointStress<2> ps;
+  if (!material::pointStress<2>(props_->law, F.transpose() * F, c.mu, c.lam, false, ps)) throwUndefinedLaw(name());
+  if (hasV && c.beta != 0.0)  // Kelvin-Voigt: beta C0 : dE/dt
+    ps.S += c.beta * material::restElasticity<2>(c.mu, c.lamStar, Membrane::strainRate(F, V * G));
+  Membrane::subtractStressForce(A_ * c.t, F, ps.S, G, Qn);
+}
+
+// dQ/dq = -A t (B^T (D B + beta D0 Bd) + (G S G^T) (x) I), dQ/dv = -alpha M - A t beta B^T D0 B.
+void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
+  checkDim(s);
+  const Coefficients c = coefficients(*s.p);
+  const bool hasV = s.v.size() == s.x.size();
+  dQdq.resize(9, 9);
+  dQdv.resize(9, 9);
+  Eigen::Map<Membrane::Tangent> Kq(dQdq.data()), Kv(dQdv.data());
+  Kq.setZero();
+  Kv.setZero();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Kv.block<3, 3>(3 * i, 3 * j).diagonal().setConstant(-c.alpha * c.m * massShape(i, j));
+  const Eigen::Map<const Membrane::Grad> G(G_.data());
+  const Membrane::Def F = Eigen::Map<const Membrane::Nodal>(s.x.data()) * G;
+  const double At = A_ * c.t;
+  material::PointStress<2> ps;
+  if (!material::pointStress<2>(props_->law, F.transpose() * F, c.mu, c.lam, true, ps)) throwUndefinedLaw(name());
+  Membrane::StrainMatrix B, DB, Bd;
+  Membrane::strainMatrix(F, G, B);
+  DB.noalias() = ps.D * B;
+  if (c.beta != 0.0) {
+    const material::VoigtMatrix<2> bD0 = material::isotropicTangent<2>(Eigen::Matrix2d::Identity(), 2.0 * c.beta * c.mu,
+                                                                       c.beta * c.lamStar);
+    const Membrane::StrainMatrix D0B = bD0 * B;
+    Membrane::addMaterial(-At, B, D0B, Kv);
+    if (hasV) {
+      const Membrane::Def Fd = Eigen::Map<const Membrane::Nodal>(s.v.data()) * G;
+      ps.S += c.beta * material::restElasticity<2>(c.mu, c.lamStar, Membrane::strainRate(F, Fd));
+      Membrane::strainMatrix(Fd, G, Bd);
+      DB.noalias() += bD0 * Bd;
+    }
+  }
+  Membrane::addMaterial(-At, B, DB, Kq);
+  Membrane::addGeometric(-At, G, ps.S, Kq);
+}
+
+// dQ/dp_k at fixed q, v: the chain rule through m = rho t A (gravity, mass damping), alpha, and
+// the stress t F S, S = S(mu, lambda) + beta C0(mu, lambda*) : Edot.
 bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
-               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k), dBeta = props_->beta.boundTo(k);
-  if (!(dYoung || dNu || dRho || dT || dAlpha || dBeta)) return false;
+  const double dRho = props_->density.boundTo(k), dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k),
+               dBeta = props_->beta.boundTo(k);
+  if (!(props_->E.boundTo(k) || props_->nu.boundTo(k) || dRho || dT || dAlpha || dBeta)) return false;
   checkDim(s);
   const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
-  const double rho = props_->density.value(p), alpha = props_->alpha.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
-  double muE, muNu, lamE, lamNu;
-  material::lameDerivatives(E0, nu, muE, muNu, lamE, lamNu);
-  const double dmu = muE * dYoung + muNu * dNu, dlam = lamE * dYoung + lamNu * dNu;
-  const double beta = props_->beta.value(p), lamStar = material::planeStressLambda(mu, lam);
-  const double sum = lam + 2.0 * mu;  // d lambda* = (2 lambda^2 dmu + 4 mu^2 dlambda) / (lambda + 2 mu)^2
-  const double dLamStar = (2.0 * lam * lam * dmu + 4.0 * mu * mu * dlam) / (sum * sum);
-  const double dm = (dRho * t + rho * dT) * A_;  // d(rho t A) [kg]
-  dQ.setZero(9);
+  const Coefficients c = coefficients(p);
+  const double rho = props_->density.value(p), dm = (dRho * c.t + rho * dT) * A_;  // d(rho t A) [kg]
+  const material::LameDerivative dl =
+      material::lameDerivative(props_->E.value(p), props_->nu.value(p), props_->E.boundTo(k), props_->nu.boundTo(k), true);
   const bool hasV = s.v.size() == s.x.size();
-  for (int i = 0; i < 3; ++i) {
-    if (s.gravity) dQ.segment<3>(3 * i) += (dm / 3.0) * *s.gravity;
-    if (hasV)
-      for (int j = 0; j < 3; ++j)
-        dQ.segment<3>(3 * i) -= ((dAlpha * rho * t * A_ + alpha * dm) * massShape(i, j)) * s.v.segment<3>(3 * j);
-  }
-  MatX F, Fd;
-  kinematics(s, F, Fd);
-  const MatX I = MatX::Identity(2, 2);
-  const MatX E = 0.5 * (F.transpose() * F - I), Bv = F.transpose() * Fd, Ed = 0.5 * (Bv + Bv.transpose());
-  const MatX S = props_->law.stress<double>(E, mu, lam, "shell triangle " + name()) + beta * elasticity0(mu, lamStar, Ed);
-  MatX dSmu, dSlam;
-  props_->law.stressDerivatives(E, mu, lam, dSmu, dSlam);
-  const MatX dS = dmu * dSmu + dlam * dSlam + dBeta * elasticity0(mu, lamStar, Ed) + beta * elasticity0(dmu, dLamStar, Ed);
-  const MatX dP = F * (dT * S + t * dS);  // d(t F S)
-  for (int i = 0; i < 3; ++i) dQ.segment<3>(3 * i) -= A_ * dP * G_.row(i).transpose();
+  const Eigen::Map<const Membrane::Nodal> V(s.v.data());  // read only when hasV
+  dQ.resize(9);
+  Eigen::Map<Membrane::Nodal> Qn(dQ.data());
+  Qn.setZero();
+  if (s.gravity) Qn.colwise() += Eigen::Vector3d((dm / 3.0) * *s.gravity);
+  if (hasV)  // sum_j (1 + delta_ij)/12 v_j = (v_i + sum_j v_j) / 12
+    Qn -= ((dAlpha * c.m + c.alpha * dm) / 12.0) * (V.colwise() + V.rowwise().sum());
+  const Eigen::Map<const Membrane::Grad> G(G_.data());
+  const Membrane::Def F = Eigen::Map<const Membrane::Nodal>(s.x.data()) * G;
+  const Eigen::Matrix2d C = F.transpose() * F;
+  material::PointStress<2> ps;
+  if (!material::pointStress<2>(props_->law, C, c.mu, c.lam, false, ps)) throwUndefinedLaw(name());
+  const Eigen::Matrix2d Ed = hasV ? Membrane::strainRate(F, V * G) : Eigen::Matrix2d::Zero();
+  const Eigen::Matrix2d S = ps.S + c.beta * material::restElasticity<2>(c.mu, c.lamStar, Ed);
+  const Eigen::Matrix2d dS = material::stressParameterDerivative<2>(props_->law, C, c.mu, c.lam, dl.mu, dl.lam) +
+                             dBeta * material::restElasticity<2>(c.mu, c.lamStar, Ed) +
+                             c.beta * material::restElasticity<2>(dl.mu, dl.lam0, Ed);
+  Membrane::subtractStressForce(A_, F, dT * S + c.t * dS, G, Qn);  // d(t F S)
   dM.setZero(9, 9);
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) dM.block<3, 3>(3 * i, 3 * j) = (dm * massShape(i, j)) * Eigen::Matrix3d::Identity();
+    for (int j = 0; j < 3; ++j) dM.block<3, 3>(3 * i, 3 * j).diagonal().setConstant(dm * massShape(i, j));
   return true;
 }
 
 double ShellTriangle::potential(const LocalState& s) const {
   checkDim(s);
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p), t = props_->thickness.value(p);
-  const MatX E = strain(s.x);
-  double U = A_ * t * props_->law.energy(E, material::mu(E0, nu), material::lambda(E0, nu));
-  if (s.gravity) {  // minus the work of gravity [J]
-    const double m = props_->density.value(p) * t * A_;
-    for (int i = 0; i < 3; ++i) U -= (m / 3.0) * s.gravity->dot(s.x.segment<3>(3 * i));
-  }
+  const Coefficients c = coefficients(*s.p);
+  const Membrane::Nodal X = Eigen::Map<const Membrane::Nodal>(s.x.data());
+  const Membrane::Def F = X * Eigen::Map<const Membrane::Grad>(G_.data());
+  double U = A_ * c.t * material::pointEnergy<2>(props_->law, F.transpose() * F, c.mu, c.lam);
+  if (s.gravity) U -= (c.m / 3.0) * (Eigen::Vector3d(*s.gravity).transpose() * X).sum();  // minus gravity's work [J]
   return U;
 }
 

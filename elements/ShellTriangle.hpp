@@ -35,14 +35,16 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   /// degenerate rest triangle (area below 1e-10 (longest edge)^2).
   ShellTriangle(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX);
   std::string kind() const override { return "shell_triangle"; }
+  /// Q and its Jacobians by the fixed-size kernel (elements/ContinuumKernel.hpp, no heap);
+  /// kernelForce() and the AD Jacobians evaluate the value template forceT instead.
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return props_->damped(); }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
 
   double restArea() const { return A_; }  ///< [m^2]
-  /// Green-Lagrange membrane strain (2x2, in the rest basis t1, t2) at positions x (9) [-].
-  MatX strain(const VecX& x) const;
   /// For output, at s.x and the nominal values s.p: Green-Lagrange strain E and second
   /// Piola-Kirchhoff stress S as 3x3 tensors in the scene's axes (the rest plane's 2x2 ones
   /// rotated by the rest basis), the membrane Cauchy stress sigma = F S F^T / J (J the area
@@ -58,8 +60,13 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
  private:
   friend class KernelElement<ShellTriangle>;
   void checkDim(const LocalState& s) const;
-  /// F = sum x_i G_i^T and its rate Fd = sum v_i G_i^T (3 x 2; Fd = 0 without velocities).
-  void kinematics(const LocalState& s, MatX& F, MatX& Fd) const;
+  /// The material's constants at parameters p.
+  struct Coefficients {
+    double mu, lam, lamStar;  ///< Lame constants and the plane-stress lambda of C0 [Pa]
+    double t, m;              ///< thickness [m], mass rho t A [kg]
+    double alpha, beta;       ///< damping [1/s], [s]
+  };
+  Coefficients coefficients(const VecX& p) const;
   /// membraneStress for any scalar; dev: the deviatoric membrane Cauchy stress (3 x 3).
   template <class T>
   void membraneStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,

@@ -83,20 +83,6 @@ double Solid::lambdaRest(double mu, double lam) const {
   return props_->law.planeStress() ? material::planeStressLambda(mu, lam) : lam;
 }
 
-MatX Solid::elasticity0(double mu, double lamV, const MatX& A) const {
-  return lamV * A.trace() * MatX::Identity(dim_, dim_) + 2.0 * mu * A;
-}
-
-void Solid::kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const {
-  const int d = dim_;
-  F.setZero(d, d);
-  Fd.setZero(d, d);
-  for (int i = 0; i < n_; ++i) {
-    F += x.segment(i * d, d) * P.G.row(i);
-    if (v.size() == x.size()) Fd += v.segment(i * d, d) * P.G.row(i);
-  }
-}
-
 // ------------------------------------------------------------------ value templates
 // props = (E, nu, density, thickness, alpha, beta).
 template <class T>
@@ -148,114 +134,7 @@ VecT<T> Solid::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, c
 }
 
 // ------------------------------------------------------------------ analytic derivatives
-void Solid::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
-  const int d = dim_, nd = n_ * d;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu), lamV = lambdaRest(mu, lam);
-  const double t = props_->thickness.value(p), rt = props_->density.value(p) * t;
-  const double alpha = props_->alpha.value(p), beta = props_->beta.value(p);
-  dQdq.setZero(nd, nd);
-  dQdv.setZero(nd, nd);
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j)
-      dQdv.block(i * d, j * d, d, d) -= (alpha * rt * massShape_(i, j)) * MatX::Identity(d, d);
-  const MatX I = MatX::Identity(d, d);
-  const std::string who = "solid element " + name();
-  MatX F, Fd;
-  for (const Point& P : pts_) {
-    kinematics(P, s.x, s.v, F, Fd);
-    checkOrientation(F.determinant());
-    const MatX E = 0.5 * (F.transpose() * F - I);
-    const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
-    const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
-    for (int j = 0; j < n_; ++j)
-      for (int c = 0; c < d; ++c) {
-        MatX dF = MatX::Zero(d, d);
-        dF.row(c) = P.G.row(j);
-        const MatX B = F.transpose() * dF, dE = 0.5 * (B + B.transpose());
-        const MatX Bd = dF.transpose() * Fd, dEd = 0.5 * (Bd + Bd.transpose());
-        const MatX dS = props_->law.tangent(E, mu, lam, dE) + beta * elasticity0(mu, lamV, dEd);
-        const MatX dP = dF * S + F * dS;                          // d(F S)/dx_jc
-        const MatX dPv = beta * F * elasticity0(mu, lamV, dE);    // d(F S)/dv_jc
-        for (int i = 0; i < n_; ++i) {
-          dQdq.block(i * d, j * d + c, d, 1) -= (P.w * t) * dP * P.G.row(i).transpose();
-          dQdv.block(i * d, j * d + c, d, 1) -= (P.w * t) * dPv * P.G.row(i).transpose();
-        }
-      }
-  }
-}
-
-bool Solid::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  // Sums of the chain rule when several properties are bound to the same parameter.
-  const double dYoung = props_->E.boundTo(k), dNu = props_->nu.boundTo(k), dRho = props_->density.boundTo(k),
-               dT = props_->thickness.boundTo(k), dAlpha = props_->alpha.boundTo(k), dBeta = props_->beta.boundTo(k);
-  if (!(dYoung || dNu || dRho || dT || dAlpha || dBeta)) return false;
-  const int d = dim_, nd = n_ * d;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu), lamV = lambdaRest(mu, lam);
-  const double rho = props_->density.value(p), t = props_->thickness.value(p);
-  const double alpha = props_->alpha.value(p), beta = props_->beta.value(p);
-  double muE, muNu, lamE, lamNu;
-  material::lameDerivatives(E0, nu, muE, muNu, lamE, lamNu);
-  const double dmu = muE * dYoung + muNu * dNu, dlam = lamE * dYoung + lamNu * dNu;
-  double dlamV = dlam;
-  if (props_->law.planeStress()) {  // d(2 lambda mu / (lambda + 2 mu))
-    const double sum = lam + 2.0 * mu;
-    dlamV = (2.0 * lam * lam * dmu + 4.0 * mu * mu * dlam) / (sum * sum);
-  }
-  const double drt = dRho * t + rho * dT;
-  const bool hasV = s.v.size() == s.x.size();
-  const VecX g = s.gravity ? VecX(*s.gravity) : VecX(VecX::Zero(d));
-  dQ.setZero(nd);
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j) {
-      dQ.segment(i * d, d) += (drt * massShape_(i, j)) * g;
-      if (hasV) dQ.segment(i * d, d) -= ((drt * alpha + rho * t * dAlpha) * massShape_(i, j)) * s.v.segment(j * d, d);
-    }
-  const MatX I = MatX::Identity(d, d);
-  const std::string who = "solid element " + name();
-  MatX F, Fd, dSmu, dSlam;
-  for (const Point& P : pts_) {
-    kinematics(P, s.x, s.v, F, Fd);
-    checkOrientation(F.determinant());
-    const MatX E = 0.5 * (F.transpose() * F - I);
-    const MatX A = F.transpose() * Fd, Ed = 0.5 * (A + A.transpose());
-    const MatX S = props_->law.stress<double>(E, mu, lam, who) + beta * elasticity0(mu, lamV, Ed);
-    props_->law.stressDerivatives(E, mu, lam, dSmu, dSlam);
-    const MatX dS = dSmu * dmu + dSlam * dlam + dBeta * elasticity0(mu, lamV, Ed) +
-                    beta * (dlamV * Ed.trace() * I + 2.0 * dmu * Ed);
-    const MatX dP = dT * F * S + t * F * dS;  // d(t F S)
-    for (int i = 0; i < n_; ++i) dQ.segment(i * d, d) -= P.w * dP * P.G.row(i).transpose();
-  }
-  dM.setZero(nd, nd);
-  for (int i = 0; i < n_; ++i)
-    for (int j = 0; j < n_; ++j)
-      for (int c = 0; c < d; ++c) dM(i * d + c, j * d + c) = drt * massShape_(i, j);
-  return true;
-}
-
-double Solid::potential(const LocalState& s) const {
-  const int d = dim_;
-  const VecX& p = *s.p;
-  const double E0 = props_->E.value(p), nu = props_->nu.value(p);
-  const double mu = material::mu(E0, nu), lam = material::lambda(E0, nu);
-  const double t = props_->thickness.value(p), rt = props_->density.value(p) * t;
-  double U = 0.0;
-  MatX F, Fd;
-  const VecX none;
-  for (const Point& P : pts_) {
-    kinematics(P, s.x, none, F, Fd);
-    checkOrientation(F.determinant());
-    U += P.w * t * props_->law.energy(0.5 * (F.transpose() * F - MatX::Identity(d, d)), mu, lam);
-  }
-  if (s.gravity)  // minus the work of gravity, -G^T M x [J]
-    for (int i = 0; i < n_; ++i)
-      for (int j = 0; j < n_; ++j) U -= rt * massShape_(i, j) * s.gravity->dot(s.x.segment(i * d, d));
-  return U;
-}
-
+// force(), forceJacobian(), parameterDerivative() and potential(): SolidKernel.cpp.
 template <class T>
 void Solid::centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,
                             MatT<T>& dev) const {

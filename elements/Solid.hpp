@@ -42,6 +42,8 @@ struct SolidProperties {
   MaterialLaw law;
   int dim = 2;
   std::vector<std::pair<std::string, Quantity*>> properties();
+  /// False when neither damping can be nonzero (both constant 0): Q then never depends on v.
+  bool damped() const { return alpha.param >= 0 || alpha.constant != 0.0 || beta.param >= 0 || beta.constant != 0.0; }
 };
 
 class Solid : public KernelElement<Solid> {
@@ -53,7 +55,11 @@ class Solid : public KernelElement<Solid> {
   Solid(std::string name, std::vector<int> nodes, std::shared_ptr<SolidProperties> props, Simplex shape,
         const MatX& restX);
   std::string kind() const override { return "solid"; }
+  /// Q and its Jacobians by the fixed-size kernels (elements/ContinuumKernel.hpp, no heap);
+  /// kernelForce() and the AD Jacobians evaluate the value template forceT instead.
+  void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
+  bool velocityDependent() const override { return props_->damped(); }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
@@ -78,12 +84,28 @@ class Solid : public KernelElement<Solid> {
     MatX G;    ///< dN_i/dX, nodes x dim [1/m]
     double w;  ///< weight times rest measure [m^2 or m^3]
   };
-  /// Per-point kinematics (double): F, E, Fd at state s.
-  void kinematics(const Point& P, const VecX& x, const VecX& v, MatX& F, MatX& Fd) const;
-  MatX elasticity0(double mu, double lamV, const MatX& A) const;  ///< C0 : A
   double lambdaRest(double mu, double lam) const;                 ///< lambda of C0
   /// Neo-Hookean: NumericalError naming the element when det F <= 0 (det C cannot tell).
   void checkOrientation(double detF) const;
+  /// The material's constants at parameters p.
+  struct Coefficients {
+    double mu, lam;   ///< Lame constants [Pa]
+    double lamV;      ///< lambda of the rest elasticity C0 of the Kelvin-Voigt stress [Pa]
+    double t, rt;     ///< thickness [m] (1 in 3D), density times thickness [kg/m^3 or kg/m^2]
+    double alpha, beta;  ///< damping [1/s], [s]
+  };
+  Coefficients coefficients(const VecX& p) const;
+  /// std::invalid_argument unless s holds D coordinates per node of this element's N nodes.
+  void checkState(const LocalState& s) const;
+  /// The fixed-size kernels for D coordinates and N nodes (SolidKernel.cpp).
+  template <int D, int N>
+  void forceFixed(const LocalState& s, VecX& Q) const;
+  template <int D, int N>
+  void forceJacobianFixed(const LocalState& s, MatX& dQdq, MatX& dQdv) const;
+  template <int D, int N>
+  void parameterDerivativeFixed(const LocalState& s, int k, VecX& dQ) const;
+  template <int D, int N>
+  double potentialFixed(const LocalState& s) const;
   /// centroidStress for any scalar: dev returns the deviatoric Cauchy stress (3 x 3).
   template <class T>
   void centroidStressT(const VecT<T>& x, const T& E0, const T& nu, MatT<T>& E, MatT<T>& S, MatT<T>& sigma,

@@ -205,6 +205,27 @@ inline void expectDampedKernels(const Element& e, const LocalState& s, VecX& p, 
   expectParameterDerivatives(e, s, p, np);
 }
 
+/// An element's force() (its fixed-size kernel) against kernelForce() (the value template the
+/// AD kernels differentiate) at s, and again without velocities (s.v empty, read as zero) and
+/// gravity, where its analytic Jacobians must equal AD's too.
+template <class E>
+void expectForceMatchesTemplate(const E& e, const LocalState& s) {
+  VecX Q;
+  e.force(s, Q);
+  EXPECT_GT(Q.norm(), 0.0);
+  EXPECT_LT(relMax(Q, e.kernelForce(s)), 1e-13) << "force() vs the value template";
+  LocalState still = s;
+  still.v.resize(0);
+  still.gravity = nullptr;
+  e.force(still, Q);
+  EXPECT_LT(relMax(Q, e.kernelForce(still)), 1e-13) << "force() vs the value template, no v, no gravity";
+  MatX K, Kv, Kad, Kvad;
+  e.forceJacobian(still, K, Kv);
+  e.forceJacobianAD(still, Kad, Kvad);
+  EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq, no v";
+  EXPECT_LT(relMax(Kvad, Kv), 1e-10) << "AD vs analytic dQ/dv, no v";
+}
+
 /// Relative error |a - b| / max(|b|, floor) in the max norm.
 inline double relErr(const MatX& a, const MatX& b, double floor = 1.0) {
   return (a - b).lpNorm<Eigen::Infinity>() / std::max(b.lpNorm<Eigen::Infinity>(), floor);

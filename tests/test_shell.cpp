@@ -89,7 +89,7 @@ VecX hingeRest(double fold) {
   return X;
 }
 
-void expectKernelsAgree(const Element& e, const VecX& x, const VecX& v, int np) {
+void expectKernelsAgree(const ShellTriangle& e, const VecX& x, const VecX& v, int np) {
   Local L(x, v, true);
   MatX K, Kv, Kad, Kvad;
   e.forceJacobian(L.s, K, Kv);
@@ -101,6 +101,7 @@ void expectKernelsAgree(const Element& e, const VecX& x, const VecX& v, int np) 
   auto fv = [&](const VecX& w) { LocalState s = L.s; s.v = w; VecX Q; e.force(s, Q); return Q; };
   EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6) << "FD vs analytic dQ/dq";
   EXPECT_LT(relMax(fdJacobian(fv, v, 1e-4), Kv), 1e-6) << "FD vs analytic dQ/dv";
+  flexsens::test::expectForceMatchesTemplate(e, L.s);
   // -dU/dq = Q at zero velocity (elastic energy + gravity)
   Local L0(x, VecX::Zero(x.size()), true);
   VecX Q;
@@ -170,6 +171,7 @@ TEST(Shell, HingeDerivativesAgainstFiniteDifferencesAndAD) {
       VecX p4 = (VecX(4) << 2.0e6, 0.3, 0.004, 0.01).finished();
       L.s.p = &p4;
       flexsens::test::expectDampedKernels(e, L.s, p4, 4);
+      flexsens::test::expectForceMatchesTemplate(e, L.s);
       pr->beta = {0.0, -1};
     }
   }

@@ -104,6 +104,7 @@ TEST(ShellClamp, DerivativesAgainstFiniteDifferencesAndAD) {
     VecX p4 = (VecX(4) << 2.0e6, 0.3, 0.004, 0.01).finished();
     s.p = &p4;
     flexsens::test::expectDampedKernels(ed, s, p4, 4);
+    flexsens::test::expectForceMatchesTemplate(ed, s);
   }
 }
 

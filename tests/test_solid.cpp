@@ -148,6 +148,7 @@ TEST(Solid, DerivativesAgainstFiniteDifferencesAndAD) {
     EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6);
     EXPECT_LT(relMax(fdJacobian(fv, v), Kv), 1e-6);
     EXPECT_GT(K.norm(), 0.0);
+    flexsens::test::expectForceMatchesTemplate(e, L.s);
     // -dU/dq = Q at rest velocity (potential: elastic + gravity)
     {
       Local L0(d, x, VecX::Zero(d * n), true);
