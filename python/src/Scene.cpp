@@ -3,11 +3,13 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <mutex>
 
 #include "Collector.hpp"
 #include "Errors.hpp"
 #include "app/Commands.hpp"
 #include "core/Interrupt.hpp"
+#include "output/ResultWriter.hpp"
 #include "scene/InputFiles.hpp"
 
 namespace flexsens_python {
@@ -84,6 +86,13 @@ void describeRun(const flexsens::Scene& sc, ResultData& d) {
   for (int i = 0; i < m.n; ++i) d.coordinates.push_back(m.coordinateLabel(i));
 }
 
+/// Before the first run that writes files (VTK frames), as the command line does at its start;
+/// a process that never writes files keeps glibc's defaults.
+void keepFreedMemoryOnce() {
+  static std::once_flag once;
+  std::call_once(once, flexsens::keepFreedMemory);
+}
+
 /// After the run, with the GIL: what Ctrl-C or the callback raised first, then the run's own
 /// failure (a NumericalError carries the frames up to it), else the Result.
 py::object finish(Collector& collector, std::exception_ptr failure, const std::shared_ptr<ResultData>& data) {
@@ -122,6 +131,7 @@ py::object runScene(const SceneHandle& h, const RunArguments& a) {
   auto data = std::make_shared<ResultData>();
   Collector collector(*data, a.progress);
   const flexsens::RunHooks hooks{&collector, !a.out.is_none(), false};
+  if (hooks.writeFiles) keepFreedMemoryOnce();
   std::exception_ptr failure;
   {
     py::gil_scoped_release nogil;
@@ -156,6 +166,7 @@ py::object staticScene(const SceneHandle& h, std::optional<int> loadSteps, std::
   data->directory = request.outDir;
   Collector collector(*data, progress);
   const flexsens::RunHooks hooks{&collector, !out.is_none(), false};
+  if (hooks.writeFiles) keepFreedMemoryOnce();
   std::exception_ptr failure;
   {
     py::gil_scoped_release nogil;

@@ -4,6 +4,7 @@
 #include <vtkNew.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <malloc.h>
 #include <sys/stat.h>
 
 #include "constraints/Driver.hpp"
@@ -28,6 +29,11 @@ double wallSeconds() {
   return duration<double>(steady_clock::now().time_since_epoch()).count();
 }
 }  // namespace
+
+void keepFreedMemory() {
+  mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+  mallopt(M_MMAP_THRESHOLD, 64 * 1024 * 1024);
+}
 
 std::string jsonString(const std::string& s) {
   std::string r = "\"";

@@ -71,6 +71,12 @@ class ResultWriter : public Observer {
   bool writes_ = true;  ///< false: no dir, no file
 };
 
+/// VTK's XML writer allocates and frees large buffers for every frame; glibc would return them
+/// to the kernel each time (brk shrink + TLB flush), which cost 80% of a 500-frame run of a
+/// small model. Keeps freed memory in the process instead (mallopt, for the whole process: the
+/// command line sets it at its start, the Python module before its first run that writes files).
+void keepFreedMemory();
+
 /// Minimal JSON text building for summary.json (values are numbers, strings, lists).
 std::string jsonString(const std::string& s);
 std::string jsonNumber(double v);  ///< non-finite numbers become null
