@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """What a run costs through the Python module against the same run by the CLI (not a test).
 
-For each scene and case, REPEAT times in alternation: `flexsens run SCENE --case C --out DIR`
+For each scene and case, REPEAT times, each in turn first: `flexsens run SCENE --case C --out DIR`
 (process wall time, and its integration time: summary.json wall_time_s, the run from the
 initial state to the committed folder), Scene.run(case=C, out=DIR) (the call's wall time and
 its summary's wall_time_s) and Scene.run(case=C) without files. The minimum over the
@@ -68,16 +68,15 @@ def measure(scene_path, case, repeat, work):
     scene = flexsens.load(scene_path)
     times = {"cli": [], "cli_integration": [], "py_files": [], "py_files_integration": [], "py_memory": [],
              "py_memory_integration": []}
+    variants = [("cli", lambda i: cli_run(scene_path, case, work / f"cli{i}")),
+                ("py_files", lambda i: python_run(scene, case, work / f"py{i}")),
+                ("py_memory", lambda i: python_run(scene, case))]
     for i in range(repeat):
-        wall, integration = cli_run(scene_path, case, work / f"cli{i}")
-        times["cli"].append(wall)
-        times["cli_integration"].append(integration)
-        wall, integration = python_run(scene, case, work / f"py{i}")
-        times["py_files"].append(wall)
-        times["py_files_integration"].append(integration)
-        wall, integration = python_run(scene, case)
-        times["py_memory"].append(wall)
-        times["py_memory_integration"].append(integration)
+        # In turn first, second and third: the run after a CLI process finds the caches cold.
+        for name, run in variants[i % 3:] + variants[:i % 3]:
+            wall, integration = run(i)
+            times[name].append(wall)
+            times[name + "_integration"].append(integration)
     return {key: min(values) for key, values in times.items()}
 
 
@@ -85,7 +84,7 @@ def table(rows, repeat):
     lines = [f"# Runs through Python against the CLI\n",
              f"`bench/python_overhead_bench.py --repeat {repeat}`, {datetime.date.today()}, commit "
              f"{subprocess.run(['git', 'rev-parse', '--short', 'HEAD'], cwd=ROOT, capture_output=True, text=True).stdout.strip()}, "
-             "2 shared cores; minimum over the repetitions [s]. Integration: summary.json `wall_time_s` "
+             "2 shared cores; minimum over the repetitions, each in turn first [s]. Integration: summary.json `wall_time_s` "
              "(initial state to committed folder). Call: the whole `Scene.run` (it reads the scene again, "
              "as the CLI does) or the whole CLI process.\n",
              "| scene, case | CLI process | CLI integration | Python call, out=DIR | its integration | "
