@@ -375,6 +375,12 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
 
 VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q0,
                             const VecX& p0, const VecX& p, int k) {
+  (void)k;  // p differs from p0 in parameter k only: the sum of the differences is p_k - p0_k
+  return perturbedConfiguration(as, c, q0, p0, p);
+}
+
+VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q0,
+                            const VecX& p0, const VecX& p) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
   requirePimMemory(as, lam, c);
@@ -383,7 +389,8 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
   checkCount(as, lam, sel, ml, c);
   const int mr = static_cast<int>(sel.kept.size()), ns = static_cast<int>(c.sdofs.size());
   VecX target(ns);
-  for (int i = 0; i < ns; ++i) target[i] = c.sdofs[i]->value(m, q0) + c.sdofs[i]->dp * (p[k] - p0[k]);
+  const double dpSum = (p - p0).sum();
+  for (int i = 0; i < ns; ++i) target[i] = c.sdofs[i]->value(m, q0) + c.sdofs[i]->dp * dpSum;
   VecX q = q0;
   double previous = std::numeric_limits<double>::infinity();
   if (ml.mc.empty()) {

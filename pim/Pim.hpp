@@ -84,8 +84,14 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
 /// z(q) = z(q0) + z_p0 (p_k - p0_k) and, with massless coordinates, their equilibrium
 /// (Phi_q^T lambda - Q)_m = 0 (unknowns q and the multipliers of the rows touching them; Q at
 /// v = 0, which massless rows do not depend on) by Newton from q0 (q0 must be the equilibrated
-/// nominal start for q(p0) = q0). For finite-difference validation.
+/// nominal start for q(p0) = q0), p differing from p0 in parameter k only. For
+/// finite-difference validation (app/FiniteDifferences) and runs at other parameter values
+/// (app/ParameterValues).
 VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q0,
                             const VecX& p0, const VecX& p, int k);
+/// The same for p differing from p0 in any parameters: the SDOF targets move by
+/// z_p0 sum_k (p_k - p0_k) (eq. 8 prescribes the same z_p0 for every parameter).
+VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q0,
+                            const VecX& p0, const VecX& p);
 
 }  // namespace flexsens

@@ -17,6 +17,10 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin         # MPI: sweep, run and study over the ranks of mpirun (docs/sweeps.md)
   python3-matplotlib                 # PNG plots of the results
   python3-yaml                       # scene fuzzer (scripts/fuzz_scenes.py)
+  pybind11-dev python3-dev           # the Python module flexsens (python/): bindings, Python headers
+  python3-numpy                      # its arrays (Result.q, .dq, ...)
+  python3-pytest                     # its tests (tests/python, run by CTest)
+  python3-scipy                      # the design-fit example (examples/python/design_fit.py)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

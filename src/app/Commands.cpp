@@ -1,10 +1,12 @@
 #include "app/Commands.hpp"
 
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "app/CaseRanks.hpp"
 #include "app/StudyRanks.hpp"
+#include "app/ParameterValues.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "integrators/InitialState.hpp"
@@ -12,9 +14,14 @@
 
 namespace flexsens {
 
+Scene readRequestedScene(const std::string& path, const std::string& text, const std::string& caseName,
+                         const ParameterValues& values) {
+  return text.empty() ? readScene(path, caseName, values) : readSceneText(text, path, caseName, values);
+}
+
 // ------------------------------------------------------------------ run
 std::vector<RunCase> prepareRun(const RunRequest& request) {
-  Scene base = readScene(request.scenePath, "", request.parameterValues);
+  Scene base = readRequestedScene(request.scenePath, request.sceneText, "", request.parameterValues);
   base.requireDynamics();
   std::vector<std::string> names = request.cases;
   if (names.empty()) names = base.caseNames;
@@ -24,7 +31,8 @@ std::vector<RunCase> prepareRun(const RunRequest& request) {
                      "use `flexsens static`, or add an integrator to run it)");
   std::vector<RunCase> cases;
   for (const auto& name : names) {
-    Scene sc = name.empty() ? std::move(base) : readScene(request.scenePath, name, request.parameterValues);
+    Scene sc = name.empty() ? std::move(base)
+                            : readRequestedScene(request.scenePath, request.sceneText, name, request.parameterValues);
     cases.push_back({request.scenePath, name, std::move(sc), ""});
     applyOptions(cases.back().scene, request.options);
     cases.back().directory = cases.back().scene.output.directory + (name.empty() ? "" : "/" + name);
@@ -33,15 +41,19 @@ std::vector<RunCase> prepareRun(const RunRequest& request) {
 }
 
 RunCommandResult runCases(const std::vector<RunCase>& cases,
-                          const std::function<void(const RunCase&, const RunResult&)>& caseDone) {
+                          const std::function<void(const RunCase&, const RunResult&)>& caseDone,
+                          const RunHooks& hooks) {
   RunCommandResult result;
   if (cases.empty()) return result;
   // The output folder locked once for all the cases (each into <folder>/<case>/).
-  RunDirectory out(cases.front().scene.output.directory, cases.front().name.empty() ? "run" : "cases");
+  std::optional<RunDirectory> out;
+  if (hooks.writeFiles) out.emplace(cases.front().scene.output.directory, cases.front().name.empty() ? "run" : "cases");
   for (const RunCase& c : cases) {
-    std::cerr << "flexsens: running " << c.scenePath << (c.name.empty() ? "" : " case " + c.name) << " with "
-              << c.scene.integrator.type << " to t = " << c.scene.integrator.tEnd << " s\n";
-    result.cases.push_back(runScene(c.scene, out, c.name));
+    std::ostringstream line;  // one write: runs in other threads do not cut into it
+    line << "flexsens: running " << c.scenePath << (c.name.empty() ? "" : " case " + c.name) << " with "
+         << c.scene.integrator.type << " to t = " << c.scene.integrator.tEnd << " s\n";
+    if (hooks.announce) std::cerr << line.str();
+    result.cases.push_back(runScene(c.scene, out ? &*out : nullptr, c.name, hooks.listener));
     if (!result.cases.back().suspect.empty()) result.status = 5;
     if (caseDone) caseDone(c, result.cases.back());
     if (const int sig = interruptSignal()) {  // arrived after the last step: later cases do not start
@@ -62,8 +74,9 @@ RunCommandResult runCommand(const RunRequest& request,
 }
 
 // ------------------------------------------------------------------ static
-StaticCommandResult staticCommand(const StaticRequest& request) {
-  Scene sc = readScene(request.scenePath, "", request.parameterValues);
+StaticCommandResult staticCommand(const StaticRequest& request, const RunHooks& hooks) {
+  Scene sc = readRequestedScene(request.scenePath, request.sceneText, "", request.parameterValues);
+  setParameterValues(sc, request.parameters);
   if (request.loadSteps) {
     if (*request.loadSteps < 1 || *request.loadSteps > 100000)
       throw InputError("option --load-steps: expected 1 to 100000");
@@ -80,7 +93,7 @@ StaticCommandResult staticCommand(const StaticRequest& request) {
   out.directory = request.outDir.empty() ? sc.output.directory + "-static" : request.outDir;
   out.vtk = sc.output.vtk;
   try {
-    out.result = runStaticScene(sc, out.directory, sc.statics.loadSteps);
+    out.result = runStaticScene(sc, hooks.writeFiles ? out.directory : "", sc.statics.loadSteps, hooks.listener);
   } catch (const Interrupted& e) {
     out.interruptedBy = e.signal;
     out.interruptedAt = e.t;
@@ -90,7 +103,7 @@ StaticCommandResult staticCommand(const StaticRequest& request) {
 
 // ------------------------------------------------------------------ modes
 ModesCommandResult modesCommand(const ModesRequest& request) {
-  Scene sc = readScene(request.scenePath);
+  Scene sc = readRequestedScene(request.scenePath, request.sceneText);
   sc.requireDynamics();
   requireModesMemory(sc.model->n);
   Assembler as(*sc.model);
@@ -98,9 +111,10 @@ ModesCommandResult modesCommand(const ModesRequest& request) {
   ModesCommandResult out;
   out.leftOutRows = sc.model->redundantRows;
   if (!out.leftOutRows.empty()) {  // left out by the reader; the modes are those of the rest
-    std::cerr << "flexsens: note: constraint rows dependent on the others at the initial positions, left out:";
-    for (const auto& l : out.leftOutRows) std::cerr << " " << l;
-    std::cerr << "\n";
+    std::ostringstream note;  // one write: runs in other threads do not cut into it
+    note << "flexsens: note: constraint rows dependent on the others at the initial positions, left out:";
+    for (const auto& l : out.leftOutRows) note << " " << l;
+    std::cerr << note.str() << "\n";
   }
   requireIndependentConstraints(as, projectPositions(as, sc.model->initialPositions(), p), p);
   out.analysis = analyzeModes(as, consistentState(as, p), p, request.count);
@@ -108,8 +122,8 @@ ModesCommandResult modesCommand(const ModesRequest& request) {
 }
 
 // ------------------------------------------------------------------ check
-CheckResult checkCommand(const std::string& scenePath) {
-  Scene sc = readScene(scenePath);
+CheckResult checkCommand(const std::string& scenePath, const std::string& sceneText) {
+  Scene sc = readRequestedScene(scenePath, sceneText);
   sc.requireDynamics();
   const Model& m = *sc.model;
   CheckResult r;
@@ -126,7 +140,7 @@ CheckResult checkCommand(const std::string& scenePath) {
   r.stillDependent = dependentRows(m, m.initialPositions(), m.nominalParameters());
   for (const auto& name : sc.caseNames) {
     // The PIM's own count: m_r = independent rigidization equations (rank-revealing).
-    Scene cs = readScene(scenePath, name);
+    Scene cs = readRequestedScene(scenePath, sceneText, name);
     const Model& cm = *cs.model;
     Assembler as(cm);
     CaseCheck c{name, cm.n, cm.m, {}};

@@ -23,12 +23,25 @@
 
 namespace flexsens {
 
+/// The scene a request names: the file at `path`, or `text` when it is not empty (a scene
+/// given as text; `path` names it in messages, and its folder is the scene's folder).
+Scene readRequestedScene(const std::string& path, const std::string& text, const std::string& caseName = "",
+                         const ParameterValues& values = {});
+
+/// What a caller takes from a command besides, or instead of, its files (the Python binding).
+struct RunHooks {
+  RunListener* listener = nullptr;  ///< sees every frame, the progress and the summary of each case
+  bool writeFiles = true;           ///< false: nothing written, no output folder touched
+  bool announce = true;             ///< "flexsens: running ..." on stderr for each case
+};
+
 // ------------------------------------------------------------------ run
 struct RunRequest {
   std::string scenePath;
   RunOptions options;
   std::vector<std::string> cases;  ///< PIM cases to run; empty: every case of the scene
   ParameterValues parameterValues;  ///< parameters set to these values (a sweep's sample)
+  std::string sceneText;           ///< non-empty: the scene itself (readRequestedScene)
 };
 
 /// One case of a run, read and validated, with the directory its results go to.
@@ -51,7 +64,8 @@ struct RunCommandResult {
 std::vector<RunCase> prepareRun(const RunRequest& request);
 /// Runs the prepared cases in order; `caseDone` (when given) sees each result as it comes.
 RunCommandResult runCases(const std::vector<RunCase>& cases,
-                          const std::function<void(const RunCase&, const RunResult&)>& caseDone = {});
+                          const std::function<void(const RunCase&, const RunResult&)>& caseDone = {},
+                          const RunHooks& hooks = {});
 /// prepareRun then runCases; under mpirun with several ranks and cases, the cases spread
 /// over the ranks and rank 0 writes (app/CaseRanks.hpp); other ranks return an empty result.
 RunCommandResult runCommand(const RunRequest& request,
@@ -65,6 +79,10 @@ struct StaticRequest {
   std::string method;             ///< dd | ad; empty: the scene's
   ParameterValues parameterValues;  ///< parameters set to these values (a sweep's sample)
   bool frames = true;               ///< false: no VTK frames whatever the scene says
+  std::string sceneText;          ///< non-empty: the scene itself (readRequestedScene)
+  /// Design parameter values (name, value) instead of the nominal ones; the equilibrium is
+  /// found from the scene's positions as for the nominal values.
+  std::vector<std::pair<std::string, double>> parameters;
 };
 
 struct StaticCommandResult {
@@ -75,12 +93,14 @@ struct StaticCommandResult {
   double interruptedAt = 0.0;  ///< load factor reached then
 };
 
-StaticCommandResult staticCommand(const StaticRequest& request);
+/// With hooks.writeFiles false nothing is written (the listener sees the load steps).
+StaticCommandResult staticCommand(const StaticRequest& request, const RunHooks& hooks = {});
 
 // ------------------------------------------------------------------ modes
 struct ModesRequest {
   std::string scenePath;
   int count = 5;  ///< modes at each end of the spectrum
+  std::string sceneText;  ///< non-empty: the scene itself (readRequestedScene)
 };
 
 struct ModesCommandResult {
@@ -109,7 +129,8 @@ struct CheckResult {
 };
 
 /// Reads the scene and each PIM case (the PIM's own counts); throws what reading throws.
-CheckResult checkCommand(const std::string& scenePath);
+/// A non-empty sceneText is the scene itself (readRequestedScene).
+CheckResult checkCommand(const std::string& scenePath, const std::string& sceneText = "");
 /// `flexsens check`'s text.
 std::string checkReport(const CheckResult& r);
 

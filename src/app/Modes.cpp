@@ -215,7 +215,8 @@ ModalAnalysis analyzeModes(const Assembler& as, const State& s, const VecX& p, i
     const VecX ya = es.eigenvectors().col(j);
     VecX y = A * ya;
     if (nb) y += B * (condense * ya);
-    a.modes[j].parts = energyShares(as, s, p, N * y, w2[j], Kc);
+    a.modes[j].shape = N * y;
+    a.modes[j].parts = energyShares(as, s, p, a.modes[j].shape, w2[j], Kc);
   }
   return a;
 }
@@ -236,8 +237,9 @@ std::string sharesText(const Mode& md) {
   return s;
 }
 
-/// Indices of the modes to list: `count` lowest elastic (after the rigid ones), `count` highest.
-void listed(const ModalAnalysis& a, int count, std::vector<int>& low, std::vector<int>& high) {
+}  // namespace
+
+void listedModes(const ModalAnalysis& a, int count, std::vector<int>& low, std::vector<int>& high) {
   std::vector<int> elastic;
   for (int j = 0; j < static_cast<int>(a.modes.size()); ++j)
     if (!a.modes[j].rigid) elastic.push_back(j);
@@ -245,6 +247,8 @@ void listed(const ModalAnalysis& a, int count, std::vector<int>& low, std::vecto
   for (int k = 0; k < ne && k < count; ++k) low.push_back(elastic[k]);
   for (int k = std::max(count, ne - count); k < ne; ++k) high.push_back(elastic[k]);
 }
+
+namespace {
 
 /// Parts holding most (> 50% together, largest first) of the kinetic energy of the highest modes.
 std::vector<std::string> fastParts(const ModalAnalysis& a, const std::vector<int>& high) {
@@ -292,7 +296,7 @@ std::string modesReport(const ModalAnalysis& a, int count) {
     return os.str();
   }
   std::vector<int> low, high;
-  listed(a, count, low, high);
+  listedModes(a, count, low, high);
   auto table = [&](const char* title, const std::vector<int>& idx) {
     os << title << "\n     #   omega [rad/s]    f [Hz]        dt for omega dt = 0.1 [s]   energy by part (strain + kinetic)\n";
     for (int j : idx) {
@@ -339,7 +343,7 @@ std::string modesJson(const ModalAnalysis& a, int count) {
   std::ostringstream os;
   os.precision(10);
   std::vector<int> low, high;
-  listed(a, count, low, high);
+  listedModes(a, count, low, high);
   double wMax = 0.0;
   int rigid = 0;
   for (const auto& md : a.modes) {

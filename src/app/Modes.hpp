@@ -37,6 +37,8 @@ struct Mode {
   double omega() const;  ///< sqrt(omega2) [rad/s]; -sqrt(-omega2) when negative
   bool rigid = false;    ///< |omega2| below the round-off level of the eigenproblem
   std::vector<EnergyShare> parts;  ///< largest total share first
+  /// The shape in the coordinates q (x^T M x = 1), for the modes with energy shares; else empty.
+  VecX shape;
 };
 
 struct ModalAnalysis {
@@ -70,6 +72,10 @@ constexpr double kRk4StabilityLimit = 2.785;
 /// A fixed-step implicit scheme resolves a mode when omega dt <= 0.1 (about 63 steps per
 /// period: trapezoidal period error (omega dt)^2/12 < 1e-3, BDF-1 amplitude loss ~30% per period).
 constexpr double kResolveLimit = 0.1;
+
+/// Indices into a.modes of the modes a report lists: the `count` lowest elastic ones (after the
+/// rigid ones) and the `count` highest.
+void listedModes(const ModalAnalysis& a, int count, std::vector<int>& low, std::vector<int>& high);
 
 /// Human-readable report (`flexsens modes`) and the same as JSON (`--json`).
 std::string modesReport(const ModalAnalysis& a, int count);

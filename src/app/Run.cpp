@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "app/EnergyAudit.hpp"
 #include "app/RunHealth.hpp"
 #include "app/FiniteDifferences.hpp"
+#include "app/ParameterValues.hpp"
 #include "integrators/FixedStep.hpp"
 #include "integrators/Idas.hpp"
 #include "integrators/InitialState.hpp"
@@ -80,6 +82,7 @@ void applyOptions(Scene& sc, const RunOptions& opt) {
                      pr->message);
   }
   if (opt.outDir) sc.output.directory = *opt.outDir;
+  if (!opt.parameters.empty()) applyParameterValues(sc, opt.parameters);
 }
 
 State consistentState(const Assembler& as, const VecX& p) {
@@ -130,18 +133,14 @@ IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSen
 
 namespace {
 
-/// summary.json, written last: status, the time reached, where the frames landed, and the
-/// statistics up to there, the energy audit. Throws OutputError (shownPath and the OS reason)
-/// if it cannot.
-void writeSummary(const std::string& path, const std::string& shownPath, const Scene& sc,
-                  const IntegratorStats& st, double wall, const std::string& status,
-                  const std::string& error, const ResultWriter& w, const PimReport* pim,
-                  const std::string& energy, const std::string& health, double velocityChange) {
+/// summary.json's text: status, the time reached, where the frames landed, and the statistics
+/// up to there, the energy audit.
+std::string summaryJson(const Scene& sc, const IntegratorStats& st, double wall, const std::string& status,
+                        const std::string& error, const ResultWriter& w, const PimReport* pim,
+                        const std::string& energy, const std::string& health, double velocityChange) {
   const Model& m = *sc.model;
   const std::vector<std::string>& files = w.files();
-  errno = 0;
-  std::ofstream js(path);
-  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
+  std::ostringstream js;
   js << "{\n";
   js << "  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
@@ -217,9 +216,39 @@ void writeSummary(const std::string& path, const std::string& shownPath, const S
   for (size_t i = 0; i < files.size(); ++i)
     js << (i ? ", " : "") << jsonString(std::filesystem::path(files[i]).filename().string());
   js << "]\n}\n";
+  return js.str();
+}
+
+/// summary.json, written last. Throws OutputError (shownPath and the OS reason) if it cannot.
+void writeSummary(const std::string& path, const std::string& shownPath, const std::string& text) {
+  errno = 0;
+  std::ofstream js(path);
+  if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
+  js << text;
   js.close();
   if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
 }
+
+/// Between the energy audit and the writer: hands each frame's series row (the writer's, so
+/// the numbers are series.csv's) and the progress to the run's listener.
+class ListenerLink : public ForwardingObserver {
+ public:
+  ListenerLink(ResultWriter& writer, RunListener& listener, double tEnd)
+      : ForwardingObserver(writer), writer_(writer), listener_(listener), tEnd_(tEnd) {}
+  void frame(const StateWithSens& s) override {
+    next_.frame(s);
+    listener_.frame(s, writer_.lastRow());
+  }
+  void progress(double t) override {
+    next_.progress(t);
+    listener_.progress(t, tEnd_);
+  }
+
+ private:
+  const ResultWriter& writer_;
+  RunListener& listener_;
+  double tEnd_;  ///< [s]
+};
 
 }  // namespace
 
@@ -229,7 +258,48 @@ RunResult runScene(const Scene& sc, const std::string& outDir) {
   return runScene(sc, dir, "");
 }
 
+namespace {
+
+/// The scene's integrator (or the finite-difference runs of --method nd) from `start`, frames to
+/// `health` (-> audit -> writer); maggi_rk4 reports its error estimate to the health.
+IntegratorStats integrateScene(const Scene& sc, const Assembler& as, const VecX& p, const StateWithSens& start,
+                               RunHealth& health, const EnergyAudit& audit) {
+  if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
+    NdSettings nd{sc.sensitivity.ndScheme, sc.sensitivity.ndStep};
+    return integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, health);
+  }
+  if (sc.integrator.type != "maggi_rk4") return integrate(as, p, start, sc.integrator, health);
+  MaggiReport maggi;  // with its error estimate, for the health
+  const IntegratorStats st = integrateMaggi(as, p, start, sc.integrator, health, MaggiOptions{}, &maggi);
+  // The audit switched off on both sides (tolerances 0) stays off here too.
+  const bool audited = sc.integrator.energyTolerance > 0 || sc.integrator.energyLossTolerance > 0;
+  health.errorEstimate("maggi_rk4", maggi.errorEstimate, maggi.maxStepErrorEstimate, maggi.maxStepErrorTime,
+                       audited ? audit.worstFraction() : -1.0);
+  return st;
+}
+
+/// Given velocities that violate the velocity constraints are projected (least change in the
+/// mass-free Euclidean norm); says by how much, never silently. Returns the change [m/s].
+double noteVelocityProjection(const Assembler& as, const Model& m, const StateWithSens& start) {
+  const VecX v0 = m.initialVelocities();
+  const double dv = m.n ? (start.x.v - v0).lpNorm<Eigen::Infinity>() : 0.0;
+  if (dv > 1e-9 * std::max(1.0, v0.lpNorm<Eigen::Infinity>())) {
+    std::ostringstream note;  // one write: runs in other threads do not cut into it
+    note << "flexsens: note: the given initial velocities violate the constraints"
+         << (as.rheonomic() ? " and drivers (Phi_q v = -Phi_t)" : "") << "; projected onto them, "
+         << "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
+    std::cerr << note.str();
+  }
+  return dv;
+}
+
+}  // namespace
+
 RunResult runScene(const Scene& sc, RunDirectory& dir, const std::string& part) {
+  return runScene(sc, &dir, part, nullptr);
+}
+
+RunResult runScene(const Scene& sc, RunDirectory* dir, const std::string& part, RunListener* listener) {
   sc.requireDynamics();  // a massless direction nothing restrains: an input error, not a failed run
   const auto t0 = std::chrono::steady_clock::now();
   const Model& m = *sc.model;
@@ -238,21 +308,22 @@ RunResult runScene(const Scene& sc, RunDirectory& dir, const std::string& part) 
   const VecX p = m.nominalParameters();
   PimReport pim;
   const StateWithSens start = initialState(as, p, sc.pimCase.get(), &pim);  // before any file is written
-  // Given velocities that violate the velocity constraints are projected (least change in the
-  // mass-free Euclidean norm); say by how much, never silently.
-  const VecX v0 = m.initialVelocities();
-  const double dv = m.n ? (start.x.v - v0).lpNorm<Eigen::Infinity>() : 0.0;
-  if (dv > 1e-9 * std::max(1.0, v0.lpNorm<Eigen::Infinity>()))
-    std::cerr << "flexsens: note: the given initial velocities violate the constraints"
-              << (as.rheonomic() ? " and drivers (Phi_q v = -Phi_t)" : "") << "; projected onto them, "
-              << "changing them by up to " << dv << " m/s (summary.json initial_velocity_change)\n";
+  const double dv = noteVelocityProjection(as, m, start);
 
   // Locked, staged, and moved into place at the end: never a mixture with an earlier
   // run's files, never a half-written directory under the final name.
-  const std::string staging = dir.staging(part), final = dir.final(part);
+  const std::string staging = dir ? dir->staging(part) : "", final = dir ? dir->final(part) : "";
+  const std::string notMoved = dir ? "; nothing was moved into " + final : "";
   const EnergyMeter meter(as, p);
   ResultWriter writer(sc, staging, "", final, "t", &meter);
-  EnergyAudit audit(meter, writer, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
+  std::optional<ListenerLink> link;
+  if (listener) {
+    writer.hideProgress();
+    link.emplace(writer, *listener, sc.integrator.tEnd);
+    listener->started(writer.columns());
+  }
+  EnergyAudit audit(meter, link ? static_cast<Observer&>(*link) : writer, sc.integrator.energyTolerance,
+                    sc.integrator.energyLossTolerance);
   RunHealth health(as, p, audit);
   RunResult res;
   res.directory = final;
@@ -265,32 +336,22 @@ RunResult runScene(const Scene& sc, RunDirectory& dir, const std::string& part) 
   auto finish = [&](const std::string& status, const std::string& error, const IntegratorStats& st) {
     try {
       writer.close();
-      writeSummary(staging + "/summary.json", final + "/summary.json", sc, st, elapsed(), status, error, writer,
-                   &pim, audit.json(), health.json(), dv);
-      dir.commit(part);
+      const std::string summary = summaryJson(sc, st, elapsed(), status, error, writer, &pim, audit.json(),
+                                              health.json(), dv);
+      if (dir) writeSummary(staging + "/summary.json", final + "/summary.json", summary);
+      if (dir) dir->commit(part);
+      if (listener) listener->finished(summary);
     } catch (const OutputError& e) {
       throw OutputError(std::string(e.what()) + (status == "complete" ? "" : " (the run itself " + status + ": " + error + ")") +
-                        "; nothing was moved into " + final);
+                        notMoved);
     }
   };
   try {
-    if (sc.sensitivity.method == "nd" && !start.dp.empty()) {
-      NdSettings nd{sc.sensitivity.ndScheme, sc.sensitivity.ndStep};
-      res.stats = integrateFiniteDifferences(as, p, start, sc.pimCase.get(), sc.integrator, nd, health);
-    } else if (sc.integrator.type == "maggi_rk4") {  // with its error estimate, for the health
-      MaggiReport maggi;
-      res.stats = integrateMaggi(as, p, start, sc.integrator, health, MaggiOptions{}, &maggi);
-      // The audit switched off on both sides (tolerances 0) stays off here too.
-      const bool audited = sc.integrator.energyTolerance > 0 || sc.integrator.energyLossTolerance > 0;
-      health.errorEstimate("maggi_rk4", maggi.errorEstimate, maggi.maxStepErrorEstimate, maggi.maxStepErrorTime,
-                           audited ? audit.worstFraction() : -1.0);
-    } else {
-      res.stats = integrate(as, p, start, sc.integrator, health);
-    }
+    res.stats = integrateScene(sc, as, p, start, health, audit);
   } catch (const OutputError& e) {
     // A result file could not be written: the staging directory goes (RunDirectory's
     // destructor), earlier results stay as they were.
-    throw OutputError(std::string(e.what()) + "; nothing was moved into " + final);
+    throw OutputError(std::string(e.what()) + notMoved);
   } catch (const Interrupted& e) {
     finish("interrupted", e.what(), writer.statistics());
     throw;

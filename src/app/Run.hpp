@@ -3,6 +3,8 @@
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/Assembler.hpp"
 #include "integrators/State.hpp"
@@ -23,6 +25,22 @@ struct RunOptions {
   std::optional<std::string> method;  ///< dd | dq | nd
   std::optional<double> ndStep;
   std::optional<std::string> ndScheme;
+  /// Design parameter values the run starts from (name, value), the others nominal: see
+  /// applyParameterValues (app/ParameterValues.hpp).
+  std::vector<std::pair<std::string, double>> parameters;
+};
+
+/// What a caller keeps of a run besides, or instead of, its files (the Python binding): the
+/// series.csv columns, every frame with its row, progress, and summary.json's text, which
+/// `finished` receives however the run ends (complete, suspect, failed, interrupted).
+class RunListener {
+ public:
+  virtual ~RunListener() = default;
+  virtual void started(const std::vector<std::string>& columns) { (void)columns; }
+  virtual void frame(const StateWithSens& s, const std::vector<double>& row) = 0;
+  /// Once per step: time reached and the end time [s].
+  virtual void progress(double t, double tEnd) { (void)t, (void)tEnd; }
+  virtual void finished(const std::string& summaryJson) { (void)summaryJson; }
 };
 
 struct RunResult {
@@ -50,5 +68,8 @@ RunResult runScene(const Scene& scene, const std::string& outDir);
 /// The same into `part` of an output folder the caller holds ("" the whole folder, else a
 /// PIM case's subfolder), committed when the run ends.
 RunResult runScene(const Scene& scene, RunDirectory& dir, const std::string& part);
+/// The same with a listener; without a folder (dir null) nothing is written and the results
+/// reach only the listener.
+RunResult runScene(const Scene& scene, RunDirectory* dir, const std::string& part, RunListener* listener);
 
 }  // namespace flexsens

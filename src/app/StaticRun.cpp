@@ -3,6 +3,8 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
 
 #include <cerrno>
 #include <cstring>
@@ -16,12 +18,10 @@ namespace flexsens {
 
 namespace {
 
-void writeStaticSummary(const std::string& path, const std::string& shownPath, const Scene& sc,
-                        const StaticResult& r, const std::string& status, const std::string& error,
-                        const ResultWriter& w) {
+std::string staticSummaryJson(const Scene& sc, const StaticResult& r, const std::string& status,
+                              const std::string& error, const ResultWriter& w) {
   const Model& m = *sc.model;
-  errno = 0;
-  std::ofstream js(path);
+  std::ostringstream js;
   js << "{\n  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
   js << "  \"analysis\": \"static\",\n  \"scene\": " << jsonString(sc.file) << ",\n";
@@ -38,13 +38,30 @@ void writeStaticSummary(const std::string& path, const std::string& shownPath, c
   for (size_t i = 0; i < w.files().size(); ++i)
     js << (i ? ", " : "") << jsonString(std::filesystem::path(w.files()[i]).filename().string());
   js << "]\n}\n";
+  return js.str();
+}
+
+void writeStaticSummary(const std::string& path, const std::string& shownPath, const std::string& text) {
+  errno = 0;
+  std::ofstream js(path);
+  js << text;
   js.close();
   if (!js) throw OutputError("cannot write " + shownPath + ": " + std::strerror(errno ? errno : EIO));
 }
 
+/// Hands each load step's series row to the listener after the writer computed it.
+struct StaticFrames {
+  ResultWriter& writer;
+  RunListener* listener;
+  void frame(const StateWithSens& s) {
+    writer.frame(s);
+    if (listener) listener->frame(s, writer.lastRow());
+  }
+};
+
 }  // namespace
 
-StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int loadSteps) {
+StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int loadSteps, RunListener* listener) {
   const auto t0 = std::chrono::steady_clock::now();
   const Model& m = *sc.model;
   Assembler as(m, sc.sensitivity.method == "ad" ? Derivatives::AutomaticDifferentiation : Derivatives::Analytic);
@@ -52,12 +69,17 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   StaticResult res;
   res.directory = outDir;  // as the user named it
   // Locked, staged and moved into place whole, like `run` (output/RunDirectory.hpp).
-  RunDirectory dir(outDir, "static");
-  ResultWriter writer(sc, dir.staging(), "", dir.final(), "load_factor");
+  std::optional<RunDirectory> dir;
+  if (!outDir.empty()) dir.emplace(outDir, "static");
+  ResultWriter writer(sc, dir ? dir->staging() : "", "", dir ? dir->final() : "", "load_factor");
+  StaticFrames frames{writer, listener};
+  if (listener) listener->started(writer.columns());
   auto finish = [&](const std::string& status, const std::string& error) {
     writer.close();
-    writeStaticSummary(dir.staging() + "/summary.json", dir.final() + "/summary.json", sc, res, status, error, writer);
-    dir.commit();
+    const std::string summary = staticSummaryJson(sc, res, status, error, writer);
+    if (dir) writeStaticSummary(dir->staging() + "/summary.json", dir->final() + "/summary.json", summary);
+    if (dir) dir->commit();
+    if (listener) listener->finished(summary);
   };
   StaticSettings set;
   set.steps = loadSteps;
@@ -70,15 +92,17 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
     s.x.q = q;
     s.x.v = VecX::Zero(m.n);
     s.x.lambda = lambda;
-    if (!p.size()) return writer.frame(s);
-    const StaticSensitivity d = staticSensitivities(as, q, lambda, p);
-    for (int k = 0; k < p.size(); ++k) {
-      State dk;
-      dk.q = d.qp.col(k);
-      dk.v = VecX::Zero(m.n);
-      s.dp.push_back(dk);
+    if (p.size()) {
+      const StaticSensitivity d = staticSensitivities(as, q, lambda, p);
+      for (int k = 0; k < p.size(); ++k) {
+        State dk;
+        dk.q = d.qp.col(k);
+        dk.v = VecX::Zero(m.n);
+        s.dp.push_back(dk);
+      }
     }
-    writer.frame(s);
+    frames.frame(s);
+    if (listener) listener->progress(lf, 1.0);
     // SIGINT/SIGTERM: stop after this converged load step, as `run` stops after a step.
     if (const int sig = interruptSignal()) throw Interrupted(sig, lf);
   };

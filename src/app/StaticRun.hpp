@@ -20,7 +20,9 @@ struct StaticResult {
 
 /// Equilibrium of the scene's model under its loads (gravity, point forces) stepped in
 /// `loadSteps` equal increments of the load factor, from the initial positions. Writes into
-/// outDir; on failure marks summary.json failed and rethrows.
-StaticResult runStaticScene(const Scene& scene, const std::string& outDir, int loadSteps);
+/// outDir (empty: writes nothing); on failure marks summary.json failed and rethrows. The
+/// listener (when given) sees each load step's row, progress (load factor of 1) and the summary.
+StaticResult runStaticScene(const Scene& scene, const std::string& outDir, int loadSteps,
+                            RunListener* listener = nullptr);
 
 }  // namespace flexsens

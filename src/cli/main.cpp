@@ -9,7 +9,6 @@
 // This file only parses options into the requests of app/Commands.hpp, calls the command and
 // prints its result: one small function per subcommand.
 #include <CLI/CLI.hpp>
-#include <malloc.h>
 
 #include <iostream>
 
@@ -18,6 +17,7 @@
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "core/Types.hpp"
+#include "output/ResultWriter.hpp"
 #include "scene/InputFiles.hpp"
 
 using namespace flexsens;
@@ -225,11 +225,7 @@ int reportFailure() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // VTK's XML writer allocates and frees large buffers for every frame; glibc would return
-  // them to the kernel each time (brk shrink + TLB flush), which cost 80% of a 500-frame run
-  // of a small model. Keep freed memory in the process instead.
-  mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
-  mallopt(M_MMAP_THRESHOLD, 64 * 1024 * 1024);
+  keepFreedMemory();  // VTK frames: output/ResultWriter.hpp
   CLI::App app{"flexsens: flexible multibody dynamics with design sensitivities"};
   app.require_subcommand(1);
   RunArgs run;

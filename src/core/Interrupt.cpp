@@ -8,6 +8,7 @@ namespace flexsens {
 namespace {
 volatile std::sig_atomic_t gSignal = 0;
 extern "C" void onSignal(int sig) { gSignal = sig; }
+thread_local int tRequest = 0;  ///< this thread's own stop request (no handler touches it)
 }  // namespace
 
 void installInterruptHandlers() {
@@ -21,9 +22,11 @@ void installInterruptHandlers() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
-int interruptSignal() { return gSignal; }
+int interruptSignal() { return gSignal ? static_cast<int>(gSignal) : tRequest; }
 void clearInterrupt() { gSignal = 0; }
 void requestInterrupt(int signal) { gSignal = signal; }
+void requestThreadInterrupt(int signal) { tRequest = signal; }
+void clearThreadInterrupt() { tRequest = 0; }
 
 Interrupted::Interrupted(int sig, double time)
     : std::runtime_error(std::string("interrupted by ") + (sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal") +

@@ -9,12 +9,18 @@ namespace flexsens {
 
 /// Installs the handlers (SA_RESETHAND: a second Ctrl-C kills at once, as users expect).
 void installInterruptHandlers();
-/// The signal received (SIGINT, SIGTERM), 0 when none.
+/// The signal received (SIGINT, SIGTERM), 0 when none; else the request this thread made
+/// (requestThreadInterrupt).
 int interruptSignal();
 /// Forgets a received signal (tests).
 void clearInterrupt();
 /// Raises the flag as the handler would (tests).
 void requestInterrupt(int signal);
+/// Stops the run of the calling thread only, as a signal would (at the end of its step): the
+/// Python binding's Ctrl-C and progress callback, with other threads' runs going on.
+void requestThreadInterrupt(int signal);
+/// Forgets the calling thread's request (before and after each of its runs).
+void clearThreadInterrupt();
 
 /// Thrown by an integrator that stopped on a signal after its last frame at time t.
 struct Interrupted : std::runtime_error {

@@ -4,6 +4,7 @@
 #include <vtkNew.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <malloc.h>
 #include <sys/stat.h>
 
 #include "constraints/Driver.hpp"
@@ -29,6 +30,11 @@ double wallSeconds() {
 }
 }  // namespace
 
+void keepFreedMemory() {
+  mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+  mallopt(M_MMAP_THRESHOLD, 64 * 1024 * 1024);
+}
+
 std::string jsonString(const std::string& s) {
   std::string r = "\"";
   for (char ch : s) {
@@ -52,11 +58,14 @@ ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem
     : scene_(scene), energy_(energy), dir_(std::move(dir)), stem_(std::move(stem)), shownDir_(std::move(shownDir)),
       tEnd_(scene.integrator.tEnd), startWall_(wallSeconds()) {
   if (shownDir_.empty()) shownDir_ = dir_;
-  const std::string csvPath = dir_ + "/" + stem_ + "series.csv";
-  errno = 0;
-  csv_.open(csvPath);
-  if (!csv_) fail(stem_ + "series.csv", errno);
-  files_.push_back(csvPath);
+  writes_ = !dir_.empty();
+  if (writes_) {
+    const std::string csvPath = dir_ + "/" + stem_ + "series.csv";
+    errno = 0;
+    csv_.open(csvPath);
+    if (!csv_) fail(stem_ + "series.csv", errno);
+    files_.push_back(csvPath);
+  }
   columns_.push_back(timeColumn);
   for (const auto& o : scene_.outputs) columns_.push_back(o.name);
   for (const auto& o : scene_.outputs)
@@ -82,6 +91,7 @@ ResultWriter::ResultWriter(const Scene& scene, std::string dir, std::string stem
     for (const char* c : {"kinetic_J", "potential_J", "energy_J"}) columns_.push_back(c);
     for (const auto& p : scene_.model->parameters) columns_.push_back("denergy_J/d" + p.name);
   }
+  if (!writes_) return;
   for (size_t i = 0; i < columns_.size(); ++i) csv_ << (i ? "," : "") << columns_[i];
   csv_ << "\n";
   csv_ << std::setprecision(15);
@@ -118,13 +128,15 @@ void ResultWriter::frame(const StateWithSens& s) {
     for (const double d : energy_->sensitivities(s.x, s.dp)) lastRow_.push_back(d);
   }
   requireFiniteRow();
-  errno = 0;
-  for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
-  csv_ << "\n";
-  if (!csv_) fail(stem_ + "series.csv", errno);  // the buffer went to a full disk, ...
+  if (writes_) {
+    errno = 0;
+    for (size_t i = 0; i < lastRow_.size(); ++i) csv_ << (i ? "," : "") << lastRow_[i];
+    csv_ << "\n";
+    if (!csv_) fail(stem_ + "series.csv", errno);  // the buffer went to a full disk, ...
+  }
   times_.push_back(s.x.t);
   tReached_ = s.x.t;
-  if (scene_.output.vtk) {
+  if (writes_ && scene_.output.vtk) {
     std::ostringstream name;
     name << stem_ << "frame_" << std::setw(5) << std::setfill('0') << times_.size() - 1 << ".vtu";
     writeVtu(s, name.str());
@@ -182,6 +194,7 @@ void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) con
 
 void ResultWriter::progress(double t) {
   tReached_ = t;
+  if (!showProgress_) return;
   const double now = wallSeconds() - startWall_;
   if (now < 1.0 || now - lastPrint_ < 0.5) return;
   lastPrint_ = now;
@@ -201,7 +214,7 @@ void ResultWriter::close() {
     csv_.close();
     if (!csv_) fail(stem_ + "series.csv", errno);
   }
-  if (!scene_.output.vtk) return;
+  if (!scene_.output.vtk || !writes_) return;
   const std::string path = dir_ + "/" + stem_ + "frames.pvd";
   errno = 0;
   std::ofstream pvd(path);

@@ -16,7 +16,8 @@ namespace flexsens {
 
 class ResultWriter : public Observer {
  public:
-  /// dir must exist. stem prefixes the file names (e.g. "" or "R1_"). Error messages name
+  /// dir must exist; an empty dir writes no file (the rows are computed all the same, for a
+  /// caller that keeps them in memory). stem prefixes the file names (e.g. "" or "R1_"). Error messages name
   /// the files under shownDir (the final directory when dir is its staging copy).
   /// timeColumn names series.csv's first column ("load_factor" for static runs).
   /// Each driver adds its reaction (<name>.reaction_N or _Nm: -lambda dPhi/ds) after the outputs'
@@ -39,6 +40,8 @@ class ResultWriter : public Observer {
   const std::vector<double>& lastRow() const { return lastRow_; }
   const std::vector<std::string>& columns() const { return columns_; }
   long frames() const { return static_cast<long>(times_.size()); }
+  /// Leaves out the progress line on stderr (a caller that shows progress itself).
+  void hideProgress() { showProgress_ = false; }
 
  private:
   void writeVtu(const StateWithSens& s, const std::string& name) const;
@@ -64,7 +67,15 @@ class ResultWriter : public Observer {
   double startWall_;
   double lastPrint_ = 0.0;
   bool printed_ = false;
+  bool showProgress_ = true;
+  bool writes_ = true;  ///< false: no dir, no file
 };
+
+/// VTK's XML writer allocates and frees large buffers for every frame; glibc would return them
+/// to the kernel each time (brk shrink + TLB flush), which cost 80% of a 500-frame run of a
+/// small model. Keeps freed memory in the process instead (mallopt, for the whole process: the
+/// command line sets it at its start, the Python module before its first run that writes files).
+void keepFreedMemory();
 
 /// Minimal JSON text building for summary.json (values are numbers, strings, lists).
 std::string jsonString(const std::string& s);
