@@ -6,6 +6,8 @@
 
 #include "core/MemoryBudget.hpp"
 #include "core/SparseAccumulator.hpp"
+#include "core/SparseLU.hpp"
+#include "pim/PimMatrix.hpp"
 #include "integrators/InitialState.hpp"
 
 namespace flexsens {
@@ -33,6 +35,11 @@ struct MasslessRows {
 
   MasslessRows(const Assembler& as, const VecX& q, const VecX& p) : mc(masslessCoordinates(as, p)) {
     if (mc.empty()) return;
+    // Massless coordinates take the dense path (Phi_q, K rows, the perturbed start's n x n
+    // Gauss-Newton): refused before it is allocated when it exceeds the memory budget.
+    const double n = as.n();
+    requireMemory(doubles(4.0 * n * n), "the PIM with massless coordinates (dense n x n matrices, n = " +
+                  std::to_string(as.n()) + ")", "give the massless coordinates a mass or coarsen the model");
     const int a = static_cast<int>(mc.size());
     Jq = as.m() ? as.phiQDense(q, p) : MatX(0, as.n());
     for (int r = 0; r < as.m(); ++r)
@@ -91,20 +98,34 @@ struct MasslessRows {
   }
 };
 
-/// A = [Phi_q; Lambda_q (kept rows); massless equilibrium rows; z_q] and the labels of its rows.
-MatX pimMatrix(const Assembler& as, const Assembler& lam, const std::vector<int>& kept, const PimCase& c,
-               const MasslessRows& ml, const VecX& q, const VecX& p, std::vector<std::string>* labels) {
+/// A = [Phi_q; Lambda_q (kept rows); massless equilibrium rows; z_q] (sparse) and the labels of
+/// its rows.
+SpMat pimMatrix(const Assembler& as, const Assembler& lam, const std::vector<int>& kept, const PimCase& c,
+                const MasslessRows& ml, const VecX& q, const VecX& p, std::vector<std::string>* labels) {
   const Model& m = as.model();
   const int mr = static_cast<int>(kept.size()), e = ml.e();
-  MatX A(as.m() + mr + e + c.sdofs.size(), m.n);
-  A.topRows(as.m()) = as.phiQDense(q, p);
-  if (mr) {
-    const MatX L = lam.phiQDense(q, p);
-    for (int i = 0; i < mr; ++i) A.row(as.m() + i) = L.row(kept[i]);
+  std::vector<Eigen::Triplet<double, int64_t>> entries;
+  auto addRows = [&](const SpMat& M, const std::vector<int>* rows, int offset) {
+    std::vector<int> rowOf(M.rows(), -1);
+    for (int i = 0; i < M.rows(); ++i) rowOf[i] = rows ? -1 : i;
+    if (rows)
+      for (size_t i = 0; i < rows->size(); ++i) rowOf[(*rows)[i]] = static_cast<int>(i);
+    for (int k = 0; k < M.outerSize(); ++k)
+      for (SpMat::InnerIterator it(M, k); it; ++it)
+        if (rowOf[it.row()] >= 0) entries.emplace_back(offset + rowOf[it.row()], it.col(), it.value());
+  };
+  if (as.m()) addRows(as.phiQSparse(q, p), nullptr, 0);
+  if (mr) addRows(lam.phiQSparse(q, p), &kept, as.m());
+  for (int i = 0; i < e; ++i)
+    for (int j = 0; j < m.n; ++j)
+      if (ml.rows(i, j) != 0.0) entries.emplace_back(as.m() + mr + i, j, ml.rows(i, j));
+  for (size_t i = 0; i < c.sdofs.size(); ++i) {
+    const VecX g = c.sdofs[i]->gradient(m, q);
+    for (int j = 0; j < m.n; ++j)
+      if (g[j] != 0.0) entries.emplace_back(as.m() + mr + e + i, j, g[j]);
   }
-  if (e) A.middleRows(as.m() + mr, e) = ml.rows;
-  for (size_t i = 0; i < c.sdofs.size(); ++i)
-    A.row(as.m() + mr + e + i) = c.sdofs[i]->gradient(m, q).transpose();
+  SpMat A(as.m() + mr + e + c.sdofs.size(), m.n);
+  A.setFromTriplets(entries.begin(), entries.end());
   if (labels) {
     for (int r = 0; r < as.m(); ++r) labels->push_back("Phi: " + as.rowLabel(r));
     for (int r : kept) labels->push_back("Lambda: " + lam.rowLabel(r));
@@ -162,60 +183,25 @@ void checkDroppedRows(const PimCase& c, const Model& m, const Assembler& lam, co
   throw InputError(msg.str());
 }
 
-/// The PIM's dense work for case c (Phi_q, Lambda_q and their projections, the matrix A of
-/// rows (m + m_r + e + d_s) x n, its SVD's full U and its LU): refused before any of it is
-/// allocated when the estimate exceeds the memory budget (core/MemoryBudget.hpp).
-void requirePimMemory(const Assembler& as, const Assembler& lam, const PimCase& c) {
-  const double n = as.n(), rows = as.m() + lam.m() + static_cast<double>(c.sdofs.size());
-  std::ostringstream what;
-  what << "case '" << c.name << "': the PIM's dense matrices (" << static_cast<long long>(rows) << " rows x n = "
-       << as.n() << " coordinates)";
-  requireMemory(doubles(4.0 * rows * n + 2.0 * rows * rows), what.str(),
-                "rigidize fewer or smaller bodies (the case's rigidize list) or coarsen their meshes (the bodies' "
-                "size key)");
+/// Rows `sel.dropped` of Lambda_q (sparse), for checking that the solution satisfies them.
+SpMat droppedRows(const Assembler& lam, const LambdaSelection& sel, const VecX& q, const VecX& p) {
+  SpMat Ld(sel.dropped.size(), lam.n());
+  if (sel.dropped.empty()) return Ld;
+  const SpMat L = lam.phiQSparse(q, p);
+  std::vector<int> rowOf(L.rows(), -1);
+  for (size_t i = 0; i < sel.dropped.size(); ++i) rowOf[sel.dropped[i]] = static_cast<int>(i);
+  std::vector<Eigen::Triplet<double, int64_t>> entries;
+  for (int k = 0; k < L.outerSize(); ++k)
+    for (SpMat::InnerIterator it(L, k); it; ++it)
+      if (rowOf[it.row()] >= 0) entries.emplace_back(rowOf[it.row()], it.col(), it.value());
+  Ld.setFromTriplets(entries.begin(), entries.end());
+  return Ld;
 }
 
 }  // namespace
 
-LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lam, const VecX& q, const VecX& p) {
-  LambdaSelection sel;
-  if (!lam.m()) return sel;
-  const MatX L = lam.phiQDense(q, p);
-  const double scale = L.rowwise().norm().maxCoeff();
-  const double tol = 1e-10 * scale;
-  // Project the rows onto the orthogonal complement of Phi_q's row space.
-  MatX P = L;
-  if (as.m()) {
-    const MatX Jt = as.phiQDense(q, p).transpose();  // n x m
-    Eigen::ColPivHouseholderQR<MatX> qr(Jt);
-    qr.setThreshold(1e-12);
-    const int r = static_cast<int>(qr.rank());
-    if (r > 0) {
-      const MatX Q = qr.householderQ() * MatX::Identity(Jt.rows(), r);
-      P -= (P * Q) * Q.transpose();
-    }
-  }
-  // Greedy in row order (earlier rows preferred): keep a row if it adds a direction to the
-  // span of the rows kept so far (Gram-Schmidt, twice for orthogonality).
-  MatX B(lam.n(), std::min(lam.m(), lam.n()));  // orthonormal basis of the kept rows
-  int kept = 0;
-  for (int i = 0; i < lam.m(); ++i) {
-    VecX v = P.row(i).transpose();
-    for (int pass = 0; pass < 2 && kept; ++pass) v -= B.leftCols(kept) * (B.leftCols(kept).transpose() * v);
-    const double nv = v.norm();
-    if (nv > tol && kept < B.cols()) {
-      B.col(kept++) = v / nv;
-      sel.kept.push_back(i);
-    } else {
-      sel.dropped.push_back(i);
-    }
-  }
-  return sel;
-}
-
 PimReport pimCounts(const Assembler& as, const PimCase& c, const VecX& q, const VecX& p) {
   const Assembler lam(as.model(), &c.lambda, as.derivatives());
-  requirePimMemory(as, lam, c);
   const LambdaSelection sel = selectRigidizationRows(as, lam, q, p);
   PimReport r;
   r.n = as.n();
@@ -263,33 +249,12 @@ void requireMasslessEquilibrium(const Assembler& as, MasslessRows& ml, const Pim
   }
 }
 
-/// The 2-norm condition number of the PIM matrix A; NumericalError naming the dependent rows
-/// when it is rank-deficient, or when it is near-singular (condition above 1e10).
-double checkedCondition(const MatX& A, const std::vector<std::string>& labels, const MasslessRows& ml,
-                        const PimCase& c) {
-  const Eigen::BDCSVD<MatX> svd(A, Eigen::ComputeFullU);
-  const VecX sv = svd.singularValues();
-  const double condition = sv[0] / sv[sv.size() - 1];
-  if (!(sv[sv.size() - 1] > 1e-12 * sv[0])) {
-    // Rows taking part in the dependency: large entries of the left null vector.
-    const VecX u = svd.matrixU().col(sv.size() - 1);
-    std::ostringstream os;
-    os << "case '" << c.name << "': the PIM matrix A = [Phi_q; Lambda_q; " << (ml.e() ? "N^T K_m / k; " : "")
-       << "z_q] is rank-deficient "
-       << "(smallest singular value " << sv[sv.size() - 1] << ", largest " << sv[0]
-       << "); dependent rows:";
-    for (int r = 0; r < u.size(); ++r)
-      if (std::abs(u[r]) > 0.1 * u.cwiseAbs().maxCoeff()) os << " [" << labels[r] << "]";
-    os << ". Choose SDOFs that are independent of each other and of the constraints";
-    throw NumericalError(os.str());
-  }
-  if (condition > 1e10) {
-    std::ostringstream os;
-    os << "case '" << c.name << "': the PIM matrix A is near-singular (condition estimate "
-       << condition << "); the SDOFs almost depend on each other or on the constraints";
-    throw NumericalError(os.str());
-  }
-  return condition;
+/// A factorized with its condition estimate (PimMatrix.hpp), the errors in the case's words.
+FactoredPimMatrix factoredPim(const SpMat& A, const std::vector<std::string>& labels, const MasslessRows& ml,
+                              const PimCase& c) {
+  const std::string what = "case '" + c.name + "': the PIM matrix A = [Phi_q; Lambda_q; " +
+                           (ml.e() ? "N^T K_m / k; " : "") + "z_q]";
+  return factorPimMatrix(A, labels, what, "Choose SDOFs that are independent of each other and of the constraints");
 }
 
 }  // namespace
@@ -298,7 +263,6 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
                               const VecX& p, PimReport& rep) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
-  requirePimMemory(as, lam, c);
   rep.n = m.n;
   rep.m = as.m();
   rep.d = m.n - as.m();
@@ -314,16 +278,13 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
   checkCount(as, lam, sel, ml, c);
   if (!ml.mc.empty()) requireMasslessEquilibrium(as, ml, c, s, p);
   std::vector<std::string> labels;
-  const MatX A = pimMatrix(as, lam, sel.kept, c, ml, s.q, p, &labels);
-  rep.condition = checkedCondition(A, labels, ml, c);
-  const Eigen::PartialPivLU<MatX> lu(A);
+  const SpMat A = pimMatrix(as, lam, sel.kept, c, ml, s.q, p, &labels);
+  const FactoredPimMatrix factored = factoredPim(A, labels, ml, c);
+  rep.condition = factored.condition;
+  const SparseLU& lu = *factored.lu;
   const int np = static_cast<int>(p.size());
   const int mr = rep.mr, e = rep.me;
-  MatX Ld(sel.dropped.size(), m.n);  // dropped rows of Lambda_q, for the check below
-  if (!sel.dropped.empty()) {
-    const MatX L = lam.phiQDense(s.q, p);
-    for (size_t i = 0; i < sel.dropped.size(); ++i) Ld.row(i) = L.row(sel.dropped[i]);
-  }
+  const SpMat Ld = droppedRows(lam, sel, s.q, p);  // for the check below
   StateWithSens out;
   out.x = s;
   rep.qp.resize(m.n, np);
@@ -361,7 +322,7 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
       const VecX lv = pick(lamV, sel.dropped);
       const VecX scale = (Ld.cwiseAbs() * d.v.cwiseAbs()) + lv.cwiseAbs();
       const double global = (A.cwiseAbs() * d.v.cwiseAbs() + b.cwiseAbs()).maxCoeff();
-      const double nonRigid = (lam.phiQDense(s.q, p) * s.v).lpNorm<Eigen::Infinity>();
+      const double nonRigid = lam.phiQTimes(s.q, p, s.v).lpNorm<Eigen::Infinity>();
       checkDroppedRows(c, m, lam, sel, k, Ld * d.v + lv, scale, global, "velocity (q'_p0)",
                        nonRigid > 1e-10 * std::max(1.0, s.v.lpNorm<Eigen::Infinity>()) ? nonRigid : 0.0);
     }
@@ -383,7 +344,6 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
                             const VecX& p0, const VecX& p) {
   const Model& m = as.model();
   const Assembler lam(m, &c.lambda, as.derivatives());
-  requirePimMemory(as, lam, c);
   const LambdaSelection sel = selectRigidizationRows(as, lam, q0, p0);
   MasslessRows ml(as, q0, p0);
   checkCount(as, lam, sel, ml, c);
@@ -405,7 +365,9 @@ VecX perturbedConfiguration(const Assembler& as, const PimCase& c, const VecX& q
       // 1e-14: stop once Newton stagnates there (the residual no longer decreases).
       if (r < 1e-11 && r >= previous) return q;
       previous = r;
-      q -= pimMatrix(as, lam, sel.kept, c, ml, q, p, nullptr).partialPivLu().solve(F);
+      SparseLU lu;
+      lu.factor(pimMatrix(as, lam, sel.kept, c, ml, q, p, nullptr), "PIM matrix A of case '" + c.name + "'");
+      q -= lu.solve(F);
     }
   } else {
     // Unknowns q and the multipliers l of the rows cr; equations Phi, Lambda (kept), the full

@@ -53,10 +53,12 @@ struct PimReport {
   MatX qp, vp;             ///< n x (number of parameters)
 };
 
-/// Rows of Lambda_q kept in the PIM matrix: those independent of Phi_q's rows and of the
-/// Lambda rows kept before them (in order), at (q, p). A rigidized body's equations can be
-/// implied by the model's constraints (e.g. the out-of-plane components of a planar cloud
-/// whose nodes the model keeps on a plane); keeping them would make A singular.
+/// Rows of Lambda_q kept in the PIM matrix: independent of Phi_q's rows and of each other, at
+/// (q, p), chosen greedily: Phi's rows first, then the rigidization rows in order, a row kept
+/// when it adds a direction to those before it. A rigidized body's equations can be implied by
+/// the model's constraints (e.g. the out-of-plane components of a planar cloud whose nodes the
+/// model keeps on a plane); keeping them would make A singular. Rows that own a coordinate no
+/// other row touches are kept without dense work (RigidizationRows.cpp).
 struct LambdaSelection {
   std::vector<int> kept, dropped;  ///< row indices of Lambda, ascending
 };

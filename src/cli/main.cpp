@@ -184,7 +184,8 @@ void addInputLimits(const std::vector<CLI::App*>& commands, InputLimits& a) {
     sub->add_option("--allow-path", a.allowPaths, "a folder (and below) whose files the scene may name besides its own "
                                                   "folder: meshes, geometry, tables (repeatable)");
     sub->add_option("--max-memory", a.maxMemoryGiB, "memory budget [GiB] for one large structure (dense matrices of "
-                                                    "modes and PIM cases, geometry nodes); default 4")
+                                                    "modes and of PIM cases with massless coordinates, geometry "
+                                                    "nodes); default 4")
         ->check(CLI::Range(0.001, 1.0e6));
   }
 }
