@@ -85,6 +85,7 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   set.steps = loadSteps;
   set.stepLoadFactor = true;
   set.maxIterations = sc.integrator.maxNewtonIterations;
+  set.tol = sc.integrator.newtonTol;
   // Each converged load step is a frame (t = load factor) with its exact sensitivities.
   set.onStep = [&](int, double lf, const VecX& q, const VecX& lambda) {
     StateWithSens s;

@@ -9,7 +9,11 @@
 // and converges Newton at each, starting from the previous equilibrium. Works with m = 0.
 //
 // Units: q [m], lambda in the units of the constraints' conjugate forces ([N] for position
-// constraints), residuals [N]; the tolerance is on the Newton update, relative to 1 + |q|_inf.
+// constraints), residuals [N]. Converged when the Newton update is small: |dq|_inf <= tol
+// (1 + |q|_inf) (the dynamic Newton's test) and |dlambda|_inf <= tol (1 + F), F the force scale
+// max(|Q|_inf, |Phi_q^T lambda|_inf, |lambda|_inf, k (1 + |q|_inf)) with k the largest diagonal
+// stiffness (the force the positions' tolerance stands for). A load step that plain Newton does
+// not solve is solved again from the last equilibrium with a backtracking line search on |R|_2.
 #pragma once
 
 #include <functional>
@@ -23,7 +27,7 @@ struct StaticSettings {
   int steps = 10;           ///< equal load increments of the load factor s
   double time = 0.0;        ///< time [s] at which loads and drivers are evaluated
   int maxIterations = 25;   ///< Newton iterations per load step
-  double tol = 1e-10;       ///< converged when |dq|_inf <= tol (1 + |q|_inf) and likewise for lambda
+  double tol = 1e-10;       ///< Newton tolerance (above); `flexsens static`: integrator.newton_tol
   /// Parameters at load factor s in (0, 1]; must give the solver's p at s = 1. Empty: p at every
   /// step (no stepping, a single Newton solve).
   std::function<VecX(double)> paramsAt;
@@ -45,7 +49,8 @@ struct StaticReport {
 };
 
 /// Equilibrium at parameters p (the load factor 1 of s.paramsAt), starting from q0.
-/// Throws NumericalError naming the load step, iteration and residual on failure.
+/// Throws NumericalError naming the load step, the failing update with its bound, the
+/// residual and what to change on failure.
 VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettings& s,
                  StaticReport* report = nullptr);
 

@@ -1,0 +1,103 @@
+// `flexsens static`'s convergence test: a constrained shell whose internal forces dwarf its load
+// converges (its residual is round-off of the internal forces, ~1e-6 N beside a 1 N load: the
+// old absolute bound on the multipliers' update refused it for ever), integrator.newton_tol is
+// honoured, and a step that cannot converge names the failing update, its bound, the load step
+// and the load factor.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "app/StaticRun.hpp"
+#include "integrators/Static.hpp"
+#include "scene/Scene.hpp"
+
+using namespace flexsens;
+
+namespace {
+
+constexpr double kL = 1.0, kSide = 1e-3, kE = 2.1e11;  // [m], [m], [Pa]
+double EI() { return kE * std::pow(kSide, 4) / 12.0; }
+
+/// A planar cantilever of 8 beam segments clamped at the root, tip load P [N] down, in
+/// `steps` load steps, with the given `integrator` mapping (may be empty).
+std::string cantilever(double P, int steps, const std::string& integrator) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "dimension: 2\nnodes:\n  - {name: root, position: [0, 0], ground: true}\n";
+  for (int i = 1; i <= 8; ++i) s << "  - {name: n" << i << ", position: [" << kL * i / 8 << ", 0]}\n";
+  s << "elements:\n  - {name: beam, type: beam, clamp: start, E: " << kE << ", density: 7800, section: {side: "
+    << kSide << "}, nodes: [root, n1, n2, n3, n4, n5, n6, n7, n8]}\n";
+  s << "  - {name: load, type: point_force, node: n8, force: [0, " << -P << "]}\n";
+  s << "static: {load_steps: " << steps << "}\n" << integrator;
+  s << "outputs:\n  - {name: tip_y, node: n8, component: y}\n";
+  return s.str();
+}
+
+std::string sceneFile(const std::string& name) { return std::string(FLEXSENS_SOURCE_DIR) + "/tests/scenes/statics/" + name; }
+
+}  // namespace
+
+// The pinched cylinder (R 300 m, E 3e6 Pa, P = 1 N, 8 x 32 lattice, diaphragms held by
+// prescribed_coordinate): internal force round-off ~ eps k |q| ~ 1e-6 N. It converges in a few
+// iterations, and the equilibrium balances: the vertical reactions of the diaphragms and the
+// two pinching loads sum to zero (an independent check of the converged multipliers).
+TEST(StaticConvergence, ConstrainedShellConvergedToRoundOffIsAccepted) {
+  const Scene sc = readScene(sceneFile("cylinder_8.yaml"));
+  StaticResult r;
+  ASSERT_NO_THROW(r = runStaticScene(sc, "", 1));
+  EXPECT_LE(r.newtonIterations, 6);
+  EXPECT_LT(r.residualNorm, 1e-4);  // [N], beside loads of 1 N
+  // Equilibrium of the model: Q(q) = Phi_q^T lambda. Sum of the z components of the
+  // reactions Phi_q^T lambda = the z resultant of the applied loads (0: two opposite loads).
+  const Model& m = *sc.model;
+  Assembler as(m);
+  StaticSettings set;
+  set.stepLoadFactor = true;
+  set.steps = 1;
+  StaticReport rep;
+  const VecX q = solveStatic(as, m.nominalParameters(), m.initialPositions(), set, &rep);
+  const VecX reaction = as.phiQTransposeTimes(q, m.nominalParameters(), rep.lambda);
+  double fz = 0.0, fzAbs = 0.0;
+  for (size_t i = 0; i < m.nodes.size(); ++i) {
+    if (m.nodes[i].ground) continue;
+    fz += reaction[m.dof(static_cast<int>(i), 2)];
+    fzAbs += std::abs(reaction[m.dof(static_cast<int>(i), 2)]);
+  }
+  EXPECT_GT(fzAbs, 1.0);      // the diaphragms carry the two unit loads ...
+  EXPECT_NEAR(fz, 0.0, 1e-4); // ... and balance
+}
+
+// newton_tol: a loose tolerance stops Newton earlier on a large-deflection cantilever (tip
+// load 2 EI/L^2 in one step: several iterations), and the two answers agree to the loose one.
+TEST(StaticConvergence, NewtonTolIsHonoured) {
+  const double P = 2.0 * EI() / (kL * kL);
+  const Scene tight = readSceneText(cantilever(P, 1, "integrator: {type: bdf1, t_end: 1, dt: 0.1, newton_tol: 1e-12}\n"), "tight.yaml");
+  const Scene loose = readSceneText(cantilever(P, 1, "integrator: {type: bdf1, t_end: 1, dt: 0.1, newton_tol: 1e-3}\n"), "loose.yaml");
+  const StaticResult rt = runStaticScene(tight, "", 1);
+  const StaticResult rl = runStaticScene(loose, "", 1);
+  EXPECT_LT(rl.newtonIterations, rt.newtonIterations);
+  EXPECT_GE(rt.newtonIterations, 4);
+  EXPECT_LT(rt.residualNorm, rl.residualNorm);
+}
+
+// A step Newton cannot solve in its iterations (two iterations for a large deflection in one
+// step, then two more with the line search) fails naming the update, its bound, the load step,
+// the load factor and what to change.
+TEST(StaticConvergence, FailureNamesTheQuantityItsBoundAndTheLoadStep) {
+  const double P = 2.0 * EI() / (kL * kL);
+  const Scene sc = readSceneText(cantilever(P, 2, "integrator: {type: bdf1, t_end: 1, dt: 0.1, max_newton_iterations: 2}\n"), "bad.yaml");
+  try {
+    runStaticScene(sc, "", 2);
+    ADD_FAILURE() << "two iterations solved a large deflection";
+  } catch (const NumericalError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("load step 1/2 (load factor 0.5)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("the positions' update |dq|_inf = "), std::string::npos) << msg;
+    EXPECT_NE(msg.find("exceeds its bound"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("newton_tol 1e-10"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("static.load_steps, e.g. 4"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("max_newton_iterations, now 2"), std::string::npos) << msg;
+  }
+}
