@@ -5,7 +5,12 @@
 // and the load factor.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -100,4 +105,23 @@ TEST(StaticConvergence, FailureNamesTheQuantityItsBoundAndTheLoadStep) {
     EXPECT_NE(msg.find("static.load_steps, e.g. 4"), std::string::npos) << msg;
     EXPECT_NE(msg.find("max_newton_iterations, now 2"), std::string::npos) << msg;
   }
+}
+
+// The Scordelis-Lo roof written as a user would (8 x 6 lattice, diaphragms by
+// prescribed_coordinate, gravity load) through the command line: exit 0, summary complete, and
+// the free edge's midpoint goes down (0.19 m on this mesh; the series is in bench/statics).
+TEST(StaticConvergence, ScordelisLoRoofCompletesThroughTheCommandLine) {
+  const std::string out = ::testing::TempDir() + "flexsens_roof_" + std::to_string(::getpid());
+  const std::string cmd = std::string(FLEXSENS_EXE) + " static " + sceneFile("roof_8.yaml") + " --out " + out + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream js(out + "/summary.json");
+  std::stringstream all;
+  all << js.rdbuf();
+  EXPECT_NE(all.str().find("\"status\": \"complete\""), std::string::npos) << all.str();
+  const size_t at = all.str().find("\"midside_z\": ");
+  ASSERT_NE(at, std::string::npos);
+  const double z = std::stod(all.str().substr(at + 13));
+  EXPECT_GT(19.1511 - z, 0.1);
+  EXPECT_LT(19.1511 - z, 0.3);
+  std::filesystem::remove_all(out);
 }

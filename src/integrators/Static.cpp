@@ -27,6 +27,74 @@ SpMat staticMatrix(SparseAccumulator& acc, const Assembler& as, const VecX& q, c
 }
 }  // namespace
 
+VecX solveLinearStatic(const Assembler& as, const VecX& p, const VecX& q0, double time, StaticReport* report) {
+  const int n = as.n(), m = as.m();
+  if (q0.size() != n) throw std::invalid_argument("solveLinearStatic: rest positions of the wrong size");
+  as.setLoadFactor(1.0);
+  as.setTime(time);
+  SparseAccumulator acc;
+  const SpMat J = staticMatrix(acc, as, q0, VecX::Zero(m), p);
+  SparseLU lu;
+  lu.factor(J, "linear static matrix [K, Phi_q^T; Phi_q, 0] at the rest state (an unrestrained rigid motion, "
+               "a mechanism, or redundant constraints: add supports)");
+  VecX r(n + m);  // the static residual at (q0, lambda = 0)
+  r.head(n) = -as.force(q0, VecX::Zero(n), p);
+  if (m) r.tail(m) = as.phi(q0, p);
+  VecX x = lu.solve(VecX(-r));
+  x += lu.solve(VecX(-r - J * x));  // one step of iterative refinement
+  if (!x.allFinite())
+    throw NumericalError("linear static: the solution is not finite (a singular stiffness at the rest state)");
+  StaticReport rep;
+  rep.steps = 1;
+  rep.iterations = 1;
+  rep.iterationsPerStep = {1};
+  const VecX res = J * x + r;
+  rep.residualNorm = infNorm(res.head(n));
+  rep.constraintNorm = m ? infNorm(res.tail(m)) : 0.0;
+  rep.lambda = x.tail(m);
+  if (report) *report = std::move(rep);
+  return q0 + x.head(n);
+}
+
+namespace {
+/// Q_qp u: the derivative along u of the analytic Q_p at q0, by a fourth-order central
+/// difference (Richardson of two central differences) with the step h |u|_inf = 1e-3 (1 +
+/// |q0|_inf) / 8 ... h / 2; zero without a displacement.
+VecX forceParamDerivativeAlong(const Assembler& as, const VecX& q0, const VecX& u, const VecX& p, int k) {
+  const VecX v = VecX::Zero(q0.size());
+  const double un = infNorm(u);
+  if (un == 0.0) return VecX::Zero(q0.size());
+  const double h = 1e-3 * (1.0 + infNorm(q0)) / (8.0 * un);
+  auto central = [&](double e) {
+    return VecX((as.forceParamDerivative(q0 + e * u, v, p, k) - as.forceParamDerivative(q0 - e * u, v, p, k)) / (2.0 * e));
+  };
+  return (4.0 * central(0.5 * h) - central(h)) / 3.0;
+}
+}  // namespace
+
+StaticSensitivity linearStaticSensitivities(const Assembler& as, const VecX& q0, const VecX& q, const VecX& lambda,
+                                            const VecX& p) {
+  const int n = as.n(), m = as.m(), np = static_cast<int>(p.size());
+  const VecX v = VecX::Zero(n), u = q - q0;
+  SparseAccumulator acc;
+  const SpMat J = staticMatrix(acc, as, q0, VecX::Zero(m), p);
+  SparseLU lu;
+  lu.factor(J, "linear static matrix [K, Phi_q^T; Phi_q, 0] at the rest state");
+  StaticSensitivity out{MatX(n, np), MatX(m, np)};
+  for (int k = 0; k < np; ++k) {
+    VecX phiP, phiQPTl;  // Phi_p, Phi_qp^T lambda at q0
+    as.constraintParamTerms(q0, p, k, lambda, phiP, phiQPTl);
+    VecX rp(n + m);  // d/dp of J [u; lambda] + r at fixed (u, lambda)
+    rp.head(n) = phiQPTl - as.forceParamDerivative(q0, v, p, k) - forceParamDerivativeAlong(as, q0, u, p, k);
+    if (m) rp.tail(m) = phiP + as.phiQParamDerivativeTimes(q0, p, k, u);
+    VecX x = lu.solve(VecX(-rp));
+    x += lu.solve(VecX(-rp - J * x));
+    out.qp.col(k) = x.head(n);
+    if (m) out.lambdap.col(k) = x.tail(m);
+  }
+  return out;
+}
+
 std::function<VecX(double)> linearLoadPath(const VecX& pUnloaded, const VecX& pLoaded) {
   if (pUnloaded.size() != pLoaded.size())
     throw std::invalid_argument("linearLoadPath: parameter vectors of different sizes");
