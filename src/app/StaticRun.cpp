@@ -135,6 +135,7 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
     finish("failed", e.what());
     throw;
   }
+  res.linear = sc.statics.linear;
   res.loadSteps = rep.steps;
   res.newtonIterations = rep.iterations;
   res.residualNorm = rep.residualNorm;
