@@ -2,7 +2,7 @@
 // converges (its residual is round-off of the internal forces, ~1e-6 N beside a 1 N load: the
 // old absolute bound on the multipliers' update refused it for ever), integrator.newton_tol is
 // honoured, and a step that cannot converge names the failing update, its bound, the load step
-// and the load factor.
+// and the load factor; a snap-through step plain Newton cannot take is taken with the line search.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -126,4 +126,38 @@ TEST(StaticConvergence, ScordelisLoRoofCompletesThroughTheCommandLine) {
   EXPECT_GT(19.1511 - z, 0.1);
   EXPECT_LT(19.1511 - z, 0.3);
   std::filesystem::remove_all(out);
+}
+
+// The line search: a shallow two-spring (von Mises) truss pushed through its limit point in one
+// load step with 6 iterations per attempt. Plain Newton does not take the snap-through in 6
+// iterations; the line search from the same start does. The equilibrium satisfies the spring
+// forces' balance written out here (k (l - l0) along each spring, l0 = sqrt(1 + h^2)).
+TEST(StaticConvergence, LineSearchTakesTheSnapThroughStep) {
+  const double k = 100.0, Fx = 0.001, Fy = -3.0, h = 0.1;
+  std::ostringstream s;
+  s << "dimension: 2\nnodes:\n  - {name: a, position: [0, 0], ground: true}\n  - {name: c, position: [2, 0], ground: true}\n"
+    << "  - {name: b, position: [1, " << h << "]}\nelements:\n"
+    << "  - {name: s1, type: spring_damper, nodes: [a, b], stiffness: " << k << "}\n"
+    << "  - {name: s2, type: spring_damper, nodes: [c, b], stiffness: " << k << "}\n"
+    << "  - {name: m, type: point_force, node: b, force: [" << Fx << ", " << Fy << "]}\n"
+    << "static: {load_steps: 1}\noutputs:\n  - {name: by, node: b, component: y}\n";
+  const Scene sc = readSceneText(s.str(), "truss.yaml");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  StaticSettings set;
+  set.steps = 1;
+  set.stepLoadFactor = true;
+  set.maxIterations = 6;
+  StaticReport rep;
+  const VecX q = solveStatic(as, m.nominalParameters(), m.initialPositions(), set, &rep);
+  ASSERT_EQ(rep.iterationsPerStep.size(), 1u);
+  EXPECT_GT(rep.iterationsPerStep[0], set.maxIterations);  // the plain attempt's 6, then the line search's
+  const int b = m.nodeIndex("b");
+  const double x = q[m.dof(b, 0)], y = q[m.dof(b, 1)], l0 = std::sqrt(1.0 + h * h);
+  const double la = std::hypot(x, y), lc = std::hypot(x - 2.0, y);
+  const double fx = -k * (la - l0) * x / la - k * (lc - l0) * (x - 2.0) / lc + Fx;
+  const double fy = -k * (la - l0) * y / la - k * (lc - l0) * y / lc + Fy;
+  EXPECT_LT(y, 0.0);  // snapped through
+  EXPECT_NEAR(fx, 0.0, 1e-10);
+  EXPECT_NEAR(fy, 0.0, 1e-10);
 }
