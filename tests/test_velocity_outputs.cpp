@@ -129,6 +129,6 @@ TEST(VelocityOutputs, UnknownQuantityIsAnInputErrorWithItsLine) {
     const std::string w = e.what();
     EXPECT_NE(w.find("motor.yaml:16"), std::string::npos) << w;
     EXPECT_NE(w.find("outputs[1].quantity"), std::string::npos) << w;
-    EXPECT_NE(w.find("expected position or velocity"), std::string::npos) << w;
+    EXPECT_NE(w.find("expected position, velocity or displacement"), std::string::npos) << w;
   }
 }

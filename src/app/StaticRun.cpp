@@ -24,7 +24,8 @@ std::string staticSummaryJson(const Scene& sc, const StaticResult& r, const std:
   std::ostringstream js;
   js << "{\n  \"status\": " << jsonString(status) << ",\n";
   if (!error.empty()) js << "  \"error\": " << jsonString(error) << ",\n";
-  js << "  \"analysis\": \"static\",\n  \"scene\": " << jsonString(sc.file) << ",\n";
+  js << "  \"analysis\": \"static\",\n  \"linear\": " << (sc.statics.linear ? "true" : "false")
+     << ",\n  \"scene\": " << jsonString(sc.file) << ",\n";
   js << "  \"n\": " << m.n << ", \"m\": " << m.m << ",\n  \"parameters\": [";
   for (size_t k = 0; k < m.parameters.size(); ++k)
     js << (k ? ", " : "") << "{\"name\": " << jsonString(m.parameters[k].name) << ", \"bound_to\": "
@@ -85,30 +86,43 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   set.steps = loadSteps;
   set.stepLoadFactor = true;
   set.maxIterations = sc.integrator.maxNewtonIterations;
+  set.tol = sc.integrator.newtonTol;
   // Each converged load step is a frame (t = load factor) with its exact sensitivities.
-  set.onStep = [&](int, double lf, const VecX& q, const VecX& lambda) {
+  auto frame = [&](double lf, const VecX& q, const VecX& lambda, const StaticSensitivity* d) {
     StateWithSens s;
     s.x.t = lf;
     s.x.q = q;
     s.x.v = VecX::Zero(m.n);
     s.x.lambda = lambda;
-    if (p.size()) {
-      const StaticSensitivity d = staticSensitivities(as, q, lambda, p);
-      for (int k = 0; k < p.size(); ++k) {
-        State dk;
-        dk.q = d.qp.col(k);
-        dk.v = VecX::Zero(m.n);
-        s.dp.push_back(dk);
-      }
+    for (int k = 0; d && k < p.size(); ++k) {
+      State dk;
+      dk.q = d->qp.col(k);
+      dk.v = VecX::Zero(m.n);
+      s.dp.push_back(dk);
     }
     frames.frame(s);
     if (listener) listener->progress(lf, 1.0);
+  };
+  set.onStep = [&](int, double lf, const VecX& q, const VecX& lambda) {
+    if (p.size()) {
+      const StaticSensitivity d = staticSensitivities(as, q, lambda, p);
+      frame(lf, q, lambda, &d);
+    } else {
+      frame(lf, q, lambda, nullptr);
+    }
     // SIGINT/SIGTERM: stop after this converged load step, as `run` stops after a step.
     if (const int sig = interruptSignal()) throw Interrupted(sig, lf);
   };
   StaticReport rep;
   try {
-    solveStatic(as, p, m.initialPositions(), set, &rep);
+    if (sc.statics.linear) {
+      const VecX q0 = m.initialPositions();
+      const VecX q = solveLinearStatic(as, p, q0, set.time, &rep);
+      const StaticSensitivity d = linearStaticSensitivities(as, q0, q, rep.lambda, p);
+      frame(1.0, q, rep.lambda, p.size() ? &d : nullptr);
+    } else {
+      solveStatic(as, p, m.initialPositions(), set, &rep);
+    }
   } catch (const OutputError&) {
     throw;  // the staging directory goes; earlier results stay as they were
   } catch (const Interrupted& e) {
@@ -121,6 +135,7 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
     finish("failed", e.what());
     throw;
   }
+  res.linear = sc.statics.linear;
   res.loadSteps = rep.steps;
   res.newtonIterations = rep.iterations;
   res.residualNorm = rep.residualNorm;

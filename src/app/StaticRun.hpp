@@ -16,6 +16,7 @@ struct StaticResult {
   double residualNorm = 0.0;    ///< |Q - Phi_q^T lambda|_inf at the end [N]
   double constraintNorm = 0.0;  ///< |Phi|_inf at the end
   double wallSeconds = 0.0;
+  bool linear = false;          ///< static.linear: one linear solve (residuals of that system)
 };
 
 /// Equilibrium of the scene's model under its loads (gravity, point forces) stepped in

@@ -112,8 +112,10 @@ int executeStatic(StaticArgs& a) {
   const StaticResult& r = s.result;
   std::cout << "static equilibrium written to " << r.directory << "/ (series.csv, "
             << (s.vtk ? "frames.pvd + frame_*.vtu, " : "") << "summary.json)\n"
-            << "  " << r.loadSteps << " load steps, " << r.newtonIterations << " Newton iterations, |R|_inf = "
-            << r.residualNorm << " N, |Phi|_inf = " << r.constraintNorm << "\n";
+            << "  " << (r.linear ? std::string("linear (small-displacement) solution")
+                                 : std::to_string(r.loadSteps) + " load steps, " + std::to_string(r.newtonIterations) +
+                                       " Newton iterations")
+            << ", |R|_inf = " << r.residualNorm << " N, |Phi|_inf = " << r.constraintNorm << "\n";
   return 0;
 }
 

@@ -30,6 +30,9 @@ double OutputSpec::value(const Model& m, const State& x) const {
     const int d = m.dof(node, component);
     return d < 0 ? 0.0 : x.v[d];  // ground nodes and clamped slopes do not move
   }
+  // A displacement's rest position is the scene's (or mesh's) node position: no parameter
+  // binds it, so the displacement's derivative is the position's (below).
+  if (displacement) return m.coordinate(x.q, node, component) - m.nodes[node].position[component];
   return m.coordinate(x.q, node, component);  // a position, or a slope component (ANCF)
 }
 

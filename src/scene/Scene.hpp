@@ -15,13 +15,16 @@ namespace flexsens {
 
 /// A named scalar output: one coordinate component of one node [m] (a slope component [-]), or
 /// (angle) the signed angle of elements/JointAngle.hpp on six nodes [rad]; with `rate`
-/// (`quantity: velocity`) its time derivative [m/s, 1/s, rad/s].
+/// (`quantity: velocity`) its time derivative [m/s, 1/s, rad/s]; with `displacement`
+/// (`quantity: displacement`, an axis component of a node) the position minus the node's rest
+/// position, its position as the scene or mesh gives it [m].
 struct OutputSpec {
   std::string name;
   int node = -1;
   int component = 0;
   std::vector<int> angle;  ///< axis from/to, from-vector from/to, to-vector from/to (empty: coordinate)
   bool rate = false;
+  bool displacement = false;
   /// Value at state x (positions q, velocities v), and its derivative along dx (a
   /// sensitivity d x/dp: the column d<name>/dp of series.csv).
   double value(const Model& m, const State& x) const;
@@ -45,6 +48,9 @@ struct OutputSettings {
 struct StaticSceneSettings {
   bool given = false;  ///< the scene has a `static` key (then `integrator` may be left out)
   int loadSteps = 10;  ///< equal increments of the load factor
+  /// `linear: true`: small displacements, K u = f with the stiffness at the rest state and the
+  /// constraints linearized there (integrators/Static.hpp, solveLinearStatic).
+  bool linear = false;
 };
 
 struct Scene {

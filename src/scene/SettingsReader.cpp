@@ -9,7 +9,10 @@ namespace flexsens {
 void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSettings& s) {
   s.given = true;
   if (in.IsNull()) return;
-  r.allowKeys(in, "static", {"load_steps"});
+  r.allowKeys(in, "static", {"load_steps", "linear"});
+  if (in["linear"]) s.linear = r.boolean(in["linear"], "static.linear");
+  if (s.linear && in["load_steps"])
+    r.fail(in["load_steps"], "static.load_steps", "a linear analysis (linear: true) takes no load steps: remove load_steps");
   if (in["load_steps"]) {
     s.loadSteps = r.integer(in["load_steps"], "static.load_steps");
     if (s.loadSteps < 1 || s.loadSteps > 100000)
@@ -84,11 +87,14 @@ void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc) {
     r.allowKeys(o, path, {"name", "node", "component", "angle", "quantity"});
     OutputSpec spec;
     spec.name = r.text(r.require(o, "name", path), path + ".name");
-    if (o["quantity"]) {  // position (default) or velocity: the value or its time derivative
+    if (o["quantity"]) {  // position (default), velocity (its time derivative) or displacement
       const std::string qn = r.text(o["quantity"], path + ".quantity");
-      if (qn != "position" && qn != "velocity")
-        r.fail(o["quantity"], path + ".quantity", "expected position or velocity, got '" + qn + "'");
+      if (qn != "position" && qn != "velocity" && qn != "displacement")
+        r.fail(o["quantity"], path + ".quantity", "expected position, velocity or displacement, got '" + qn + "'");
       spec.rate = qn == "velocity";
+      spec.displacement = qn == "displacement";
+      if (spec.displacement && o["angle"])
+        r.fail(o["quantity"], path + ".quantity", "a displacement is of a node's coordinate: give node and component, not angle");
     }
     for (const auto& other : sc.outputs)
       if (other.name == spec.name) r.fail(o["name"], path + ".name", "duplicate output name '" + spec.name + "'");
@@ -104,6 +110,8 @@ void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc) {
     }
     spec.node = ctx.node(r.require(o, "node", path), path + ".node");
     spec.component = nodeComponent(ctx, spec.node, r.require(o, "component", path), path + ".component");
+    if (spec.displacement && spec.component >= m.dim)
+      r.fail(o["component"], path + ".component", "a displacement is of a position: expected an axis, not a slope component");
     sc.outputs.push_back(spec);
   }
 }
