@@ -86,6 +86,11 @@ class SceneContext {
   /// Sets the initial velocity of a node, failing if another item gave it a different one.
   void setVelocity(int id, const Eigen::Vector3d& v, const YAML::Node& item, const std::string& path);
   void velocitySetBy(int id, const std::string& path) { velocitySetBy_[id] = path; }
+  /// The key path that gave node `id` its initial velocity, or null when none did (default 0).
+  const std::string* velocitySource(int id) const {
+    const auto it = velocitySetBy_.find(id);
+    return it == velocitySetBy_.end() ? nullptr : &it->second;
+  }
   /// `item.axis`, `item.from`, `item.to`: three node pairs of a signed joint angle.
   AngleNodes angleNodes(const YAML::Node& item, const std::string& path) const;
   /// The angle at the initial positions [rad]; fails where it is undefined.
