@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <array>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -48,6 +49,9 @@ class SceneContext {
   std::map<int, std::string> slopeOwner;  ///< node -> the ANCF chain that set its slope
   std::map<std::string, RigidBodyInfo> rigidBodies;
   std::map<std::string, std::array<int, 2>> planarRigidBodies;  ///< name -> basic points A, B
+  /// Readers that need every element read first (a torque through a node's slope, which its
+  /// ANCF chain sets, wherever the chain is listed): run in order after the elements.
+  std::vector<std::function<void()>> afterElements;
   std::string geoFile;  ///< the scene's Gmsh geometry, if any
   GmshOptions gmsh;     ///< the Gmsh child's limits (scene key `limits`) and the scene's folder
 
