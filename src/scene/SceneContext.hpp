@@ -52,6 +52,8 @@ class SceneContext {
   /// Readers that need every element read first (a torque through a node's slope, which its
   /// ANCF chain sets, wherever the chain is listed): run in order after the elements.
   std::vector<std::function<void()>> afterElements;
+  /// Meshed body -> its Physical Points and node groups with their node counts (for `check`).
+  std::map<std::string, std::vector<std::pair<std::string, int>>> meshGroups;
   std::string geoFile;  ///< the scene's Gmsh geometry, if any
   GmshOptions gmsh;     ///< the Gmsh child's limits (scene key `limits`) and the scene's folder
 
