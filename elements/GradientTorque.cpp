@@ -9,6 +9,7 @@ GradientTorque::GradientTorque(std::string name, int node, int gradients, std::u
   if (gradients_ != 1 && gradients_ != 3) throw std::invalid_argument("gradient torque: 1 or 3 gradients per node");
   used_ = static_cast<int>(inner_->nodes().size()) - 1;
   if (used_ < 1 || used_ > gradients_) throw std::invalid_argument("gradient torque: inner torque on 2 or 3 nodes");
+  first_ = gradients_ == 3 ? 1 : 0;  // ancf_beam: the section vectors r_y, r_z
 }
 
 LocalState GradientTorque::innerState(const LocalState& s) const {
@@ -16,21 +17,23 @@ LocalState GradientTorque::innerState(const LocalState& s) const {
   in.gradients = 0;
   in.x = VecX::Zero(s.dim * (1 + used_));
   in.v = VecX::Zero(in.x.size());
-  in.x.tail(s.dim * used_) = s.x.segment(s.dim, s.dim * used_);  // x = [r, r_1, r_2, ...]
-  if (s.v.size() == s.x.size()) in.v.tail(s.dim * used_) = s.v.segment(s.dim, s.dim * used_);
+  const int at = s.dim * (1 + first_);  // x = [r, r_1, r_2, ...]
+  in.x.tail(s.dim * used_) = s.x.segment(at, s.dim * used_);
+  if (s.v.size() == s.x.size()) in.v.tail(s.dim * used_) = s.v.segment(at, s.dim * used_);
   return in;
 }
 
 VecX GradientTorque::outerVector(const LocalState& s, const VecX& inner) const {
   VecX Q = VecX::Zero(s.x.size());
-  Q.segment(s.dim, s.dim * used_) = inner.tail(s.dim * used_);
+  Q.segment(s.dim * (1 + first_), s.dim * used_) = inner.tail(s.dim * used_);
   return Q;
 }
 
 MatX GradientTorque::outerMatrix(const LocalState& s, const MatX& inner) const {
   MatX K = MatX::Zero(s.x.size(), s.x.size());
   const int n = s.dim * used_;
-  K.block(s.dim, s.dim, n, n) = inner.bottomRightCorner(n, n);
+  const int at = s.dim * (1 + first_);
+  K.block(at, at, n, n) = inner.bottomRightCorner(n, n);
   return K;
 }
 

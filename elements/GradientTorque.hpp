@@ -6,9 +6,13 @@
 // torque sees the gradients as those differences (A at the origin, B at r' or r_x, C at r_y):
 //   planar cable      Q_r' = tau f R90 r' / |r'|^2           (tau delta(atan2 r'_y, r'_x))
 //   spatial cable     Q_r' = f T x r' / |r'|^2               (T perpendicular to r'_0)
-//   ancf_beam         Q_rx = T1 x r_x / |r_x|^2, Q_ry = T2 x r_y / |r_y|^2, Q_rz = 0 (the
-//                     three-node split of SpatialTorque), so that Q . delta r = T . delta phi
-//                     for any rotation delta phi of the triad; follower: T turns with it.
+//   ancf_beam         on the section vectors r_y, r_z (the cross-section's displacement field
+//                     r + y r_y + z r_z; the slope r_x may differ from the section's normal by
+//                     the shear): Q_ry = T1 x r_y / |r_y|^2, Q_rz = T2 x r_z / |r_z|^2, Q_rx = 0
+//                     (the three-node split of SpatialTorque, d1 = r_y, d2 = r_z), so that
+//                     Q . delta r = T . delta phi for any rotation of the section; the bending
+//                     stress -M y / I of a moment M about z gives the same Q_ry = -M e_x;
+//                     follower: T turns with the section.
 // No force on the position (a pure couple); the inner torque's force on A, which would
 // balance it, is dropped. Derivatives (analytic and AD) are the inner torque's, gathered on the
 // gradient rows and columns. Units: tau, T [N m]; gradients [-]; Q_r [N m] per unit gradient.
@@ -45,7 +49,8 @@ class GradientTorque : public Element {
   VecX outerVector(const LocalState& s, const VecX& inner) const;
   MatX outerMatrix(const LocalState& s, const MatX& inner) const;
   int gradients_;
-  int used_;  ///< gradients the inner torque acts on: 1 (r' or, planar, r') or 2 (r_x, r_y)
+  int used_;       ///< gradients the inner torque acts on: 1 (a cable's r') or 2 (r_y, r_z)
+  int first_ = 0;  ///< the first of them: 0 (r') or 1 (r_y)
   std::unique_ptr<Element> inner_;
 };
 

@@ -90,8 +90,8 @@ void readGradientTorque(SceneContext& ctx, const YAML::Node& el, const std::stri
                                            std::move(fn));
   } else {
     const Eigen::Vector3d T0 = r.vector(r.require(el, "torque", path), path + ".torque", 3);
-    MatX X0 = MatX::Zero(3, g == 1 ? 2 : 3);  // A at the origin, then r' (cable) or r_x, r_y (ancf_beam)
-    for (int c = 1; c < X0.cols(); ++c) X0.col(c) = nd.slope.segment(3 * (c - 1), 3);
+    MatX X0 = MatX::Zero(3, g == 1 ? 2 : 3);  // A at the origin, then r' (cable) or r_y, r_z (ancf_beam)
+    for (int c = 1; c < X0.cols(); ++c) X0.col(c) = nd.slope.segment(3 * (c - 1 + (g == 3 ? 1 : 0)), 3);
     if (g == 1 && follower)
       r.fail(el["follower"], path + ".follower", "a follower torque needs a triad; an ancf_cable node has one slope (an ancf_beam node has three gradients)");
     if (g == 1 && std::abs(T0.dot(X0.col(1))) > 1e-9 * T0.norm())

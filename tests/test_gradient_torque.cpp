@@ -36,7 +36,8 @@ std::unique_ptr<GradientTorque> makeTorque(const Case& c, const LocalState& s) {
   } else {
     const int used = c.gradients == 1 ? 1 : 2;
     MatX X0 = MatX::Zero(3, used + 1);
-    for (int k = 0; k < used; ++k) X0.col(k + 1) = s.x.segment(3 * (k + 1), 3);
+    const int first = c.gradients == 3 ? 1 : 0;  // ancf_beam: r_y, r_z
+    for (int k = 0; k < used; ++k) X0.col(k + 1) = s.x.segment(3 * (k + 1 + first), 3);
     std::vector<Quantity> comps{{0.0, 0}, {0.0, 1}, {0.0, 2}};
     inner = std::make_unique<SpatialTorque>("t", std::vector<int>(used + 1, 0), comps, nullptr, c.follower, X0);
   }
@@ -140,6 +141,11 @@ TEST(GradientTorque, VirtualWorkIsTheTorqueTimesTheRotation) {
     for (const Eigen::Vector3d dphi : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)}) {
       VecX dr = VecX::Zero(s.x.size());
       for (int i = 0; i < n; ++i) dr.segment<3>(3 * (i + 1)) = dphi.cross(Eigen::Vector3d(s.x.segment<3>(3 * (i + 1))));
+      if (c.gradients == 3) {  // the torque sees only the section vectors r_y, r_z
+        VecX q;
+        el->force(s, q);
+        EXPECT_TRUE(q.segment<3>(3).isZero()) << c.what << ": nothing on r_x";
+      }
       double expected = T.dot(dphi);
       if (c.gradients == 1) {  // the rotation about the slope moves nothing
         const Eigen::Vector3d r = s.x.segment<3>(3);
@@ -274,4 +280,46 @@ TEST(GradientTorque, StaticSensitivityMatchesCentralDifferences) {
   const VecX fd = (a.q - b.q) / (2 * h);
   EXPECT_LT((sens.qp.col(0) - fd).norm(), 1e-6 * fd.norm()) << sens.qp.col(0).transpose() << "\n" << fd.transpose();
   EXPECT_GT(fd.norm(), 0.1);
+}
+
+// Spatial cantilevers (x axis, clamped at A) under an end moment about z through `node:` of the
+// tip: an ancf_cable's slope and an ancf_beam's section (r_y; fixed and follower torque) turn by
+// M L / EI in the linear range (M = 1e-4 EI / L); a torque along a cable's slope is refused.
+TEST(GradientTorque, SpatialCantileversTurnByMLOverEI) {
+  const double side = 0.1, E = 1.0e6, EI = E * std::pow(side, 4) / 12, M = 1e-4 * EI;
+  for (const std::string kind : {"ancf_cable", "ancf_beam", "ancf_beam follower"}) {
+    const bool beam = kind != "ancf_cable";
+    std::ostringstream s;
+    s.precision(17);
+    s << "dimension: 3\nnodes:\n  - {name: A, position: [0, 0, 0], ground: true, clamped: true}\n";
+    for (int i = 1; i <= 4; ++i) s << "  - {name: n" << i << ", position: [" << 0.25 * i << ", 0, 0]}\n";
+    s << "elements:\n  - {name: bar, type: " << (beam ? "ancf_beam" : "ancf_cable") << ", E: " << E
+      << (beam ? ", nu: 0" : "") << ", density: 1000, section: {side: " << side << "}, nodes: [A, n1, n2, n3, n4]}\n"
+      << "  - {name: moment, type: point_torque, node: n4, torque: [0, 0, " << M << "]"
+      << (kind == "ancf_beam follower" ? ", follower: true" : "") << "}\nstatic: {load_steps: 1}\n";
+    const Scene sc = readSceneText(s.str(), "spatial.yaml");
+    const Model& m = *sc.model;
+    Assembler as(m);
+    StaticSettings set;
+    set.steps = 1;
+    set.stepLoadFactor = true;
+    const VecX q = solveStatic(as, m.nominalParameters(), m.initialPositions(), set);
+    int tip = 0;
+    while (m.nodes[tip].name != "n4") ++tip;
+    // r' (cable) or the section vector r_y (ancf_beam) turned about z
+    const double rot = beam ? std::atan2(-q[m.dof(tip, 6)], q[m.dof(tip, 7)]) : std::atan2(q[m.dof(tip, 4)], q[m.dof(tip, 3)]);
+    std::printf("%s: tip rotation %.6e (M L / EI = %.6e)\n", kind.c_str(), rot, M / EI);
+    EXPECT_NEAR(rot, M / EI, 1e-3 * M / EI) << kind;
+  }
+  const std::string along = "dimension: 3\nnodes:\n  - {name: A, position: [0, 0, 0], ground: true, clamped: true}\n"
+                            "  - {name: B, position: [1, 0, 0]}\nelements:\n"
+                            "  - {name: bar, type: ancf_cable, E: 1.0e6, density: 1000, section: {side: 0.1}, nodes: [A, B]}\n"
+                            "  - {name: twist, type: point_torque, node: B, torque: [1, 0, 0]}\nstatic: {load_steps: 1}\n";
+  try {
+    readSceneText(along, "twist.yaml");
+    ADD_FAILURE() << "a twist on a cable's slope was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("twist.yaml:7:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("key 'elements[1].torque'"), std::string::npos) << e.what();
+  }
 }
