@@ -119,3 +119,27 @@ TEST(DriverInitialSpeed, HarmonicSpeedAtZeroIsChecked) {
                              "b.yaml"),
                InputError);
 }
+
+// prescribed_distance: the rate (x_b - x_a) . (v_b - v_a) / |x_b - x_a| of the given velocities
+// against f'(0); and a driver without a given velocity on its nodes is not checked (the
+// initial state derives the velocities from the drivers).
+TEST(DriverInitialSpeed, DistanceDriverRateAgainstItsFunction) {
+  auto scene = [](const std::string& velocity, const std::string& function) {
+    return "dimension: 2\nnodes:\n  - {name: O, position: [0, 0], ground: true}\n"
+           "  - {name: P, position: [0.6, 0.8]" + velocity + "}\n  - {name: Q, position: [0.6, 1.8]}\n"
+           "elements:\n  - {name: mass, type: rigid_bar, nodes: [P, Q], mass: 1}\n"
+           "constraints:\n  - {name: pull, type: prescribed_distance, nodes: [O, P], function: " + function + "}\n"
+           "integrator: {type: trapezoidal, t_end: 0.1, dt: 0.01}\n";
+  };
+  // v = (0.3, 0.4): radial rate 0.6 * 0.3 + 0.8 * 0.4 = 0.5 m/s
+  EXPECT_NO_THROW(readSceneText(scene(", velocity: [0.3, 0.4]", "{type: linear, slope: 0.5}"), "a.yaml"));
+  try {
+    readSceneText(scene(", velocity: [0.3, 0.4]", "{type: linear, slope: 0.25}"), "b.yaml");
+    ADD_FAILURE() << "a distance driver at 0.25 m/s with the node given 0.5 m/s was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("is 0.25 m/s"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("at 0.5 m/s"), std::string::npos) << msg;
+  }
+  EXPECT_NO_THROW(readSceneText(scene("", "{type: linear, slope: 0.25}"), "c.yaml"));
+}
