@@ -70,7 +70,8 @@ std::vector<int> createMeshNodes(SceneContext& ctx, const std::string& path, con
   return ids;
 }
 
-/// The mesh nodes of a Physical Point or node group g (InputError listing the available ones).
+}  // namespace
+
 std::vector<int> meshGroupNodes(const YamlReader& r, const BodyMesh& mesh, const std::string& group,
                                 const YAML::Node& at, const std::string& key, const std::string& g) {
   if (mesh.points.count(g)) return std::vector<int>{mesh.points.at(g)};
@@ -84,6 +85,8 @@ std::vector<int> meshGroupNodes(const YamlReader& r, const BodyMesh& mesh, const
   }
   return it->second;
 }
+
+namespace {
 
 /// ground: and clamp: groups fixed (clamp only where the element takes it: clamp != nullptr).
 void fixMeshGroups(SceneContext& ctx, const YAML::Node& el, const std::string& path, const BodyMesh& mesh,
@@ -225,10 +228,14 @@ void setMeshVelocities(SceneContext& ctx, const YAML::Node& el, const std::strin
 
 std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
                               const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
-                              std::vector<MeshNodeGroup>* clamp) {
+                              std::vector<MeshNodeGroup>* clamp, std::vector<SymmetryPlane>* planes) {
   const std::vector<int> ids = createMeshNodes(ctx, path, name, mesh, meshKey);
   fixMeshGroups(ctx, el, path, mesh, group, ids, clamp);
   attachMeshGroups(ctx, el, path, name, mesh, group, ids);
+  readSupports(ctx, el, path, name, mesh, group, ids, planes);
+  auto& listed = ctx.meshGroups[name];  // for `flexsens check`: each named point and node group
+  for (const auto& [pn, i] : mesh.points) listed.push_back({pn, 1});
+  for (const auto& [gn, ns] : mesh.groups) listed.push_back({gn, static_cast<int>(ns.size())});
   setMeshVelocities(ctx, el, path, ids);
   return ids;
 }

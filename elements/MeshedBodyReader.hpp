@@ -25,6 +25,14 @@ struct MeshNodeGroup {
   std::vector<int> nodes;
 };
 
+/// A plane of symmetry of a meshed body: the group's mesh nodes, the unit normal, a point [m].
+struct SymmetryPlane {
+  YAML::Node at;
+  std::string key;
+  std::vector<int> nodes;
+  Eigen::Vector3d normal, point;
+};
+
 /// Scene nodes of the mesh's nodes, in mesh order (an existing node of the same name is shared
 /// when at the same place), then the keys `ground`, `velocity`, `angular_velocity`, `center`.
 /// A planar scene takes x, y of a mesh in the plane z = 0. clamp (shell): when given, the key
@@ -32,7 +40,17 @@ struct MeshNodeGroup {
 /// there (the caller adds what a clamp holds beyond the nodes).
 std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
                               const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
-                              std::vector<MeshNodeGroup>* clamp = nullptr);
+                              std::vector<MeshNodeGroup>* clamp = nullptr, std::vector<SymmetryPlane>* planes = nullptr);
+
+/// The mesh nodes of a Physical Point or node group g (InputError listing the available ones).
+std::vector<int> meshGroupNodes(const YamlReader& r, const BodyMesh& mesh, const std::string& group,
+                                const YAML::Node& at, const std::string& key, const std::string& g);
+
+/// The keys `support` ({group, fix: [axes]}) and `symmetry` ({group, normal}): support rows on
+/// the group's free nodes (elements/SupportReader.cpp); symmetry planes go to `planes` when given.
+void readSupports(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
+                  const BodyMesh& mesh, const std::string& group, const std::vector<int>& ids,
+                  std::vector<SymmetryPlane>* planes);
 
 /// The key `material`: saint_venant_kirchhoff (default) or neo_hookean.
 Law readMaterialLaw(const YamlReader& r, const YAML::Node& el, const std::string& path);

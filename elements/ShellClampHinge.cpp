@@ -27,9 +27,23 @@ ShellClampHinge::ShellClampHinge(std::string name, std::vector<int> nodes, std::
   w_ = e.squaredNorm() / A;
 }
 
+ShellClampHinge::ShellClampHinge(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props,
+                                 const VecX& restX, const Eigen::Vector3d& normal, const Eigen::Vector3d& point)
+    : ShellClampHinge(std::move(name), std::move(nodes), std::move(props), restX) {
+  mirror_ = true;
+  normal_ = normal.normalized();
+  point_ = point;
+  try {
+    phi0_ = ShellHinge::dihedralAngle(withGhost(restX), nullptr, nullptr, "shell symmetry " + this->name());
+  } catch (const NumericalError& err) {
+    throw std::invalid_argument(err.what());
+  }
+  w_ *= 0.25;  // half the energy of the hinge with the mirror image, whose angle is twice the tilt
+}
+
 shell::Vec12 ShellClampHinge::withGhost(const VecX& x) const {
   shell::Vec12 y;
-  y << x, ghost_;
+  y << x, ghostOf<double>(x.segment<3>(6));
   return y;
 }
 
@@ -53,19 +67,24 @@ VecT<T> ShellClampHinge::forceT(const LocalState& s, const VecT<T>& x, const Vec
   checkDim(s);
   VecT<T> y(12);
   y.head(9) = x;
-  for (int k = 0; k < 3; ++k) y[9 + k] = x[k] * 0.0 + ghost_[k];
+  const Eigen::Matrix<T, 3, 1> x2 = x.template segment<3>(6);
+  y.template tail<3>() = ghostOf<T>(x2);
   T phi;
   VecT<T> g;
   if (!shell::angleT<T>(y, phi, g)) throw NumericalError(shell::degenerateMessage("shell clamp " + name()));
   const T D = shell::bendingStiffness(props[0], props[1], props[2]);
   const T dev = ad::wrapAngle(T(phi - phi0_));
-  const VecT<T> g9 = g.head(9);
+  VecT<T> g9 = g.head(9);
+  if (mirror_) {  // grad_x2 += M grad_x3: the mirror ghost moves with x2 (M = I - 2 n n^T)
+    const Eigen::Matrix<T, 3, 1> g3 = g.template tail<3>();
+    g9.template segment<3>(6) += g3 - (2.0 * normal_.cast<T>().dot(g3)) * normal_.cast<T>();
+  }
   const T rate = v.size() == x.size() ? T(g9.dot(v)) : T(0.0);
   return -(D * w_ * (dev + props[3] * rate)) * g9;
 }
 
-// Fixed size, no heap once the outputs have their size; the ghost is fixed, so the derivatives
-// are the x-blocks (the first 9 entries) of the 4-node angle's.
+// Fixed size, no heap once the outputs have their size; a fixed ghost leaves the x-blocks (the
+// first 9 entries) of the 4-node angle's derivatives, a mirror ghost adds its chain rule.
 void ShellClampHinge::bendingState(const LocalState& s, double& Dw, double& dev, Eigen::Matrix<double, 9, 1>& g,
                                    Eigen::Matrix<double, 9, 9>* H) const {
   checkDim(s);
@@ -76,6 +95,15 @@ void ShellClampHinge::bendingState(const LocalState& s, double& Dw, double& dev,
     throw NumericalError(shell::degenerateMessage("shell clamp " + name()));
   g = g12.head<9>();
   if (H) *H = H12.topLeftCorner<9, 9>();
+  if (mirror_) {  // x3 = M x2 + c, M = I - 2 n n^T (symmetric): chain rule through the ghost
+    const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() - 2.0 * normal_ * normal_.transpose();
+    g.segment<3>(6) += M * g12.tail<3>();
+    if (H) {
+      H->middleCols<3>(6) += H12.block<9, 3>(0, 9) * M;
+      H->middleRows<3>(6) += M * H12.block<3, 9>(9, 0);
+      H->block<3, 3>(6, 6) += M * H12.block<3, 3>(9, 9) * M;
+    }
+  }
   const VecX& p = *s.p;
   Dw = shell::bendingStiffness(props_->E.value(p), props_->nu.value(p), props_->thickness.value(p)) * w_;
   dev = ad::wrapAngle(phi - phi0_);

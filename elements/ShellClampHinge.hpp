@@ -22,6 +22,18 @@
 // stay where they were (as a clamp's do). phi is wrapped to (-pi, pi]. The rest orientation
 // is the mesh triangle's (also under rest_shape: flat). Units: positions [m], D [N m], forces
 // [N], energy [J].
+//
+// Symmetry plane (a shell's `symmetry` key; the plane through `point` with unit normal n):
+// the ghost is the mirror image of x2 across that plane, moving with it,
+//   x3 = x2 - 2 n (n . (x2 - point)),
+// the edge nodes held on the plane (their normal displacement: SupportConstraint). The hinge
+// between the triangle and its mirror image is the interior hinge the full (mirrored) shell
+// has there, shared by the two halves: this half carries half its energy,
+//   U = 1/2 (D/2 |e|^2 / (2 A)) (theta - theta0)^2 = 1/2 D (|e|^2 / (4 A)) (theta - theta0)^2,
+// theta the dihedral angle between the triangle and its mirror (theta0 at rest). Its
+// derivatives are the 4-node angle's through the map x -> (x, x3(x2)). A plane of symmetry
+// through a smooth shell thus holds the slope across it at its rest value, as the mirrored
+// model would.
 #pragma once
 
 #include <memory>
@@ -39,7 +51,10 @@ class ShellClampHinge : public KernelElement<ShellClampHinge> {
   /// restX: rest positions of x0, x1 (the clamped edge) and x2 (9 entries [m]). Throws
   /// std::invalid_argument for a zero rest edge or triangle.
   ShellClampHinge(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX);
-  std::string kind() const override { return "shell_clamp"; }
+  /// The hinge of a symmetry plane through `point` with unit `normal` (above); x0, x1 on it.
+  ShellClampHinge(std::string name, std::vector<int> nodes, std::shared_ptr<ShellProperties> props, const VecX& restX,
+                  const Eigen::Vector3d& normal, const Eigen::Vector3d& point);
+  std::string kind() const override { return mirror_ ? "shell_symmetry" : "shell_clamp"; }
   /// Q and its Jacobians in fixed size (no heap); kernelForce() and the AD Jacobians evaluate
   /// the value template forceT instead.
   void force(const LocalState& s, VecX& Q) const override;
@@ -49,7 +64,7 @@ class ShellClampHinge : public KernelElement<ShellClampHinge> {
   double potential(const LocalState& s) const override;
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
 
-  double weight() const { return w_; }  ///< |e|^2 / A of the rest triangle [-]
+  double weight() const { return w_; }  ///< |e|^2 / A (clamp) or |e|^2 / (4 A) (symmetry) [-]
   /// phi at positions x (9 entries), relative to the rest orientation, wrapped to (-pi, pi] [rad].
   double rotation(const VecX& x) const;
 
@@ -68,7 +83,15 @@ class ShellClampHinge : public KernelElement<ShellClampHinge> {
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
 
   std::shared_ptr<ShellProperties> props_;
-  Eigen::Vector3d ghost_;  ///< X3, fixed [m]
+  /// The ghost of x2: fixed (clamp) or its mirror image across the plane (symmetry).
+  template <class T>
+  Eigen::Matrix<T, 3, 1> ghostOf(const Eigen::Matrix<T, 3, 1>& x2) const {
+    if (!mirror_) return ghost_.cast<T>() + x2 * 0.0;
+    return x2 - (2.0 * normal_.cast<T>().dot(x2 - point_.cast<T>())) * normal_.cast<T>();
+  }
+  Eigen::Vector3d ghost_;  ///< X3, fixed [m] (clamp)
+  bool mirror_ = false;
+  Eigen::Vector3d normal_ = Eigen::Vector3d::Zero(), point_ = Eigen::Vector3d::Zero();  ///< symmetry plane
   double phi0_, w_;        ///< the rest angle (round-off: the ghost lies in the rest plane) [rad], |e|^2 / A
 };
 

@@ -24,17 +24,54 @@
 // (elements/ShellClampHinge.hpp) holding its triangle's rest orientation (slope zero across the
 // edge); a group with no such edge (a point, an interior curve, a curve of another surface) is
 // an error.
+#include <map>
+
 #include "elements/MeshedBodyReader.hpp"
+#include "elements/ShellClampHinge.hpp"
 #include "elements/ShellMesh.hpp"
 #include "scene/KindTable.hpp"
 
 namespace flexsens {
 
+namespace {
+
+/// symmetry: each boundary edge with both nodes on the plane gets the mirror hinge
+/// (elements/ShellClampHinge.hpp) with its triangle's third node; a plane group with no such
+/// edge is an error.
+void addSymmetryHinges(SceneContext& ctx, const std::string& name, const BodyMesh& mesh,
+                       const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
+                       const std::shared_ptr<ShellProperties>& props, const std::vector<SymmetryPlane>& planes) {
+  std::map<std::pair<int, int>, std::vector<int>> opposite;  // sorted edge -> third nodes
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k)
+      opposite[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}].push_back(t[(k + 2) % 3]);
+  int count = 0;
+  for (const SymmetryPlane& pl : planes) {
+    std::vector<bool> in(mesh.positions.size(), false);
+    for (int i : pl.nodes) in[i] = true;
+    bool hasEdge = false;
+    for (const auto& [e, third] : opposite) {
+      if (third.size() != 1 || !in[e.first] || !in[e.second]) continue;
+      hasEdge = true;
+      VecX rest(9);
+      rest << mesh.positions[e.first], mesh.positions[e.second], mesh.positions[third[0]];
+      ctx.m.elements.push_back(std::make_unique<ShellClampHinge>(name + ".symmetry" + std::to_string(count++),
+                                                                 std::vector<int>{ids[e.first], ids[e.second], ids[third[0]]},
+                                                                 props, rest, pl.normal, pl.point));
+    }
+    if (!hasEdge)
+      ctx.r.fail(pl.at, pl.key, "the group holds no boundary edge of the shell (no edge of a single triangle with both "
+                                "nodes in it); expected a Physical Curve on the boundary, where the shell meets its plane of symmetry");
+  }
+}
+
+}  // namespace
+
 void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "material", "E", "nu", "density", "thickness",
-                        "rest_shape", "damping", "ground", "attach", "clamp", "velocity", "angular_velocity", "center"});
+                        "rest_shape", "damping", "ground", "support", "symmetry", "attach", "clamp", "velocity", "angular_velocity", "center"});
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
   props->law.law = readMaterialLaw(r, el, path);
@@ -65,7 +102,8 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     r.fail(meshKey, path + ".mesh", "Physical Surface '" + group + "' holds " + simplexName(mesh.shape) +
                                         " elements; expected linear triangles (3 nodes) for a shell");
   std::vector<MeshNodeGroup> clampGroups;
-  const std::vector<int> ids = addMeshNodes(ctx, el, path, name, mesh, meshKey, group, &clampGroups);
+  std::vector<SymmetryPlane> planes;
+  const std::vector<int> ids = addMeshNodes(ctx, el, path, name, mesh, meshKey, group, &clampGroups, &planes);
   std::vector<std::array<int, 3>> tris;
   for (const auto& c : mesh.cells) tris.push_back({c[0], c[1], c[2]});
   std::vector<bool> clamped;
@@ -89,6 +127,7 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   } catch (const std::invalid_argument& e) {
     r.fail(meshKey, path + ".mesh", std::string(e.what()) + "; the node numbers are Gmsh node tags");
   }
+  addSymmetryHinges(ctx, name, mesh, tris, ids, props, planes);
   ctx.bindAll(name, props->properties());
   // A PIM body: its cloud is all its mesh nodes (a flat shell's is a planar cloud in 3D).
   ctx.bodies[name] = {ids, nullptr};

@@ -52,7 +52,7 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   Model& m = ctx.m;
   const int d = m.dim;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "order", "material", "state", "E", "nu", "density",
-                        "thickness", "damping", "ground", "attach", "traction", "velocity", "angular_velocity", "center"});
+                        "thickness", "damping", "ground", "support", "symmetry", "attach", "traction", "velocity", "angular_velocity", "center"});
   auto props = std::make_shared<SolidProperties>();
   props->dim = d;
   // --- material -------------------------------------------------------------------------

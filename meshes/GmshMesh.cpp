@@ -11,6 +11,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "core/MemoryBudget.hpp"
 #include "meshes/GmshCurves.hpp"
 #include "meshes/GeoScan.hpp"
 #include "meshes/GeometryFile.hpp"
@@ -157,14 +158,11 @@ void readCells(const BodyMeshRequest& req, const std::vector<int>& entities, con
   }
 }
 
-/// Checking: some cells, not too many nodes, no free node (classified on the body's entities
+/// Checking: some cells, no free node (classified on the body's entities
 /// but in no element).
 void checkBodyNodes(const BodyMeshRequest& req, const std::vector<int>& entities, const std::string& groupKind,
                     const BodyNodes& nodes, const BodyMesh& out, const Fail& fail) {
   if (out.cells.empty()) throw fail(groupKind + " '" + req.group + "' has no elements in '" + req.file + "'");
-  if (static_cast<int>(out.positions.size()) > kMaxMeshNodes)
-    throw fail(groupKind + " '" + req.group + "' has " + std::to_string(out.positions.size()) +
-               " nodes; expected at most " + std::to_string(kMaxMeshNodes) + " (kMaxMeshNodes): a larger size");
   for (int e : entities) {
     std::vector<std::size_t> tags;
     std::vector<double> coord, param;
@@ -270,8 +268,14 @@ BodyMesh meshBody(const BodyMeshRequest& req, const std::string& where) {
     checkMshCounts(req.file, contents, where);
   else
     scanGeoFile(req.file, {req.gmsh.sceneDir}, where);
-  return decodeBodyMesh(
+  BodyMesh mesh = decodeBodyMesh(
       runGmshSandboxed(req.file, req.gmsh.limits, where, [&] { return encodeBodyMesh(meshBodyHere(req, where)); }));
+  const double nodes = static_cast<double>(mesh.positions.size());
+  requireMemory(nodes * (req.dim == 3 ? kMeshBytesPerNode3D : kMeshBytesPerNode2D),
+                where + ": " + (req.dim == 2 ? "Physical Surface '" : "Physical Volume '") + req.group + "' of " +
+                    fmtNumber(nodes) + " nodes",
+                isMsh ? std::string("use a coarser mesh") : std::string("use a larger size (the element's size key) or order 1"));
+  return mesh;
 }
 
 }  // namespace flexsens

@@ -47,9 +47,14 @@ struct BodyMesh {
 };
 
 /// Limits before and after meshing: the estimated cell count (bounding box measure over
-/// size^dim) and the node count; a geometry file's size as in GmshCurves.
+/// size^dim), then the memory the body's nodes will need against the memory budget
+/// (core/MemoryBudget, --max-memory); a geometry file's size as in GmshCurves.
 inline constexpr double kMaxMeshCellsEstimate = 2e5;
-inline constexpr int kMaxMeshNodes = 20000;
+/// Peak memory per mesh node of a solve [bytes], twice the measured (peak RSS of `flexsens
+/// static` between two mesh sizes, quadratic elements): 9.3 kB per node for triangles (Cook's
+/// membrane, 1.8k -> 7k nodes), 49 kB for tetrahedra (bar, 1k -> 6.4k nodes; the sparse LU's
+/// fill grows faster in 3D). Surface meshes (planar solids, shells) use the first.
+inline constexpr double kMeshBytesPerNode2D = 2e4, kMeshBytesPerNode3D = 1e5;
 
 /// Gmsh runs in a sandboxed child (meshes/GmshSandbox); a .geo is scanned first
 /// (meshes/GeoScan), a .msh's headers checked (meshes/GeometryFile).

@@ -508,6 +508,24 @@ TEST(AncfBeam3DScene, BadScenesSayWhatIsWrong) {
   }
 }
 
+// Two chains welded at an angle: the remedy names the key each element has, `gradients` for
+// ancf_beam nodes (ancf_beam refuses `slope`) and `slope` for ancf_cable nodes.
+TEST(AncfBeam3DScene, SharedNodeErrorNamesTheElementsOwnKey) {
+  auto message = [](const char* file) {
+    try {
+      readScene(test::sourceDir() + "/tests/scenes/bad/" + file);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string beam = message("bad_ancf_beam_shared_gradients.yaml");
+  EXPECT_NE(beam.find("give the node its 'gradients' (r_x, r_y, r_z)"), std::string::npos) << beam;
+  EXPECT_EQ(beam.find("'slope'"), std::string::npos) << beam;
+  const std::string cable = message("bad_ancf_shared_slope.yaml");
+  EXPECT_NE(cable.find("give the node a 'slope'"), std::string::npos) << cable;
+}
+
 // ---------------------------------------------------------------- static sensitivities
 // A clamped ancf_beam under gravity and a tip force across it, deflected ~5% of L (nonlinear):
 // dq/dp from staticSensitivities for E, nu, density, width and height against central

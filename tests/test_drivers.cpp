@@ -29,6 +29,7 @@ std::vector<std::unique_ptr<TimeFunction>> allFunctions(const std::string& dir) 
   std::vector<std::unique_ptr<TimeFunction>> r;
   r.push_back(makeConstant(1.7));
   r.push_back(makeRamp(0.8, 0.1, -0.3));
+  r.push_back(makeLinear(1.9, 0.25));
   r.push_back(makeSmoothStep(0.05, 0.9, 0.2, 1.4));
   r.push_back(makeHarmonic(0.7, 5.3, 0.4, 0.1));
   r.push_back(makeSpinUp(4.0, 0.6));

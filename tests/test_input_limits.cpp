@@ -311,3 +311,32 @@ TEST(FiniteResults, EnergyDerivativeOfASubnormalParameterIsFinite) {
     EXPECT_NEAR(dE[0], 9.81 * -0.5 * 0.7071067811865476, 1e-9) << "p = " << pm;
   }
 }
+
+// A meshed body is sized by memory, not by a node count: a quadratic Cook's membrane at
+// h = 0.5 (27508 nodes, 0.51 GiB at 20 kB per node) is read under the default budget; under a
+// budget of 0.3 GiB it is refused naming the node count, the group and --max-memory, while
+// h = 1 (7k nodes, 0.13 GiB) still fits.
+TEST(MemoryBudget, MeshedBodyIsSizedByTheBudgetNotANodeCount) {
+  auto cook = [](double h) {
+    return "dimension: 2\nelements:\n  - {name: panel, type: solid, mesh: cook.geo, group: cook, size: " +
+           std::to_string(h) + ", order: 2, E: 1, nu: 0.3333, density: 1, thickness: 1, ground: [clamp],\n"
+           "     traction: [{group: load, force: [0, 1]}]}\nstatic: {load_steps: 1}\n";
+  };
+  const std::string name = test::sourceDir() + "/tests/scenes/solid/cook_budget.yaml";
+  const double saved = memoryBudget();
+  const Scene fine = readSceneText(cook(0.5), name);
+  EXPECT_GT(fine.model->n, 2 * 20000);  // above the former limit of 20000 nodes
+  setMemoryBudget(0.3 * (1ull << 30));
+  try {
+    readSceneText(cook(0.5), name);
+    ADD_FAILURE() << "a mesh above the memory budget was accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("key 'elements[0].mesh'"), std::string::npos) << m;
+    EXPECT_NE(m.find("Physical Surface 'cook' of " + std::to_string(fine.model->nodes.size()) + " nodes"), std::string::npos) << m;
+    EXPECT_NE(m.find("larger size"), std::string::npos) << m;
+    EXPECT_NE(m.find("--max-memory"), std::string::npos) << m;
+  }
+  EXPECT_NO_THROW(readSceneText(cook(1.0), name));
+  setMemoryBudget(saved);
+}

@@ -108,6 +108,50 @@ TEST(ShellClamp, DerivativesAgainstFiniteDifferencesAndAD) {
   }
 }
 
+// The symmetry-plane hinge (the ghost the mirror image of x2 across a plane through the edge,
+// moving with x2): the same checks, its chain rule through the ghost included.
+TEST(ShellSymmetryHinge, DerivativesAgainstFiniteDifferencesAndAD) {
+  const VecX X = skewTriangle();
+  const Eigen::Vector3d u = (X.segment<3>(3) - X.segment<3>(0)).normalized();
+  const Eigen::Vector3d n = u.cross(Eigen::Vector3d(0.3, -0.2, 1.0)).normalized();  // the edge in the plane
+  ShellClampHinge e("s", {0, 1, 2}, boundProps(), X, n, X.segment<3>(0));
+  EXPECT_EQ(e.kind(), "shell_symmetry");
+  VecX p3 = (VecX(3) << 2.0e6, 0.3, 0.004).finished();
+  {  // at rest: no energy, no force
+    LocalState s0 = localState(X, &p3);
+    VecX Q0;
+    e.force(s0, Q0);
+    EXPECT_LT(Q0.norm(), 1e-9);
+  }
+  for (const double amp : {0.01, 0.05}) {
+    SCOPED_TRACE("perturbation " + std::to_string(amp));
+    std::srand(11);
+    const VecX x = X + amp * VecX::Random(9);
+    LocalState s = localState(x, &p3);
+    MatX K, Kv, Kad, Kvad;
+    e.forceJacobian(s, K, Kv);
+    e.forceJacobianAD(s, Kad, Kvad);
+    EXPECT_GT(K.norm(), 0.0);
+    EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+    auto fq = [&](const VecX& q) { LocalState t = s; t.x = q; VecX Q; e.force(t, Q); return Q; };
+    EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6) << "FD vs analytic dQ/dq";
+    auto U = [&](const VecX& q) { LocalState t = s; t.x = q; VecX r(1); r[0] = e.potential(t); return r; };
+    VecX Q;
+    e.force(s, Q);
+    EXPECT_GT(Q.norm(), 0.0);
+    EXPECT_LT(relMax(-fdJacobian(U, x).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+    expectParameterDerivatives(e, s, p3, 3);
+    auto damped = boundProps();
+    damped->beta = {0.0, 3};
+    ShellClampHinge ed("s", {0, 1, 2}, damped, X, n, X.segment<3>(0));
+    VecX p4 = (VecX(4) << 2.0e6, 0.3, 0.004, 0.01).finished();
+    s.p = &p4;
+    s.v = VecX::Random(9);
+    flexsens::test::expectDampedKernels(ed, s, p4, 4);
+    flexsens::test::expectForceMatchesTemplate(ed, s);
+  }
+}
+
 // At rest: no energy, no force. Turned about its edge by phi (x2 rotated about the edge line,
 // the edge fixed): rotation() = phi, U = D/2 |e|^2/A phi^2 > 0, and U is half the energy of
 // an interior hinge between the triangle and its mirror image across the wall plane (the plane

@@ -136,6 +136,7 @@ CheckResult checkCommand(const std::string& scenePath, const std::string& sceneT
   r.parameters = m.parameters.size();
   r.outputs = sc.outputs.size();
   r.redundantRows = m.redundantRows;
+  r.meshGroups = sc.meshGroups;
   // The reader left dependent rows out already (core/RedundantRows.hpp); confirm the rest.
   r.stillDependent = dependentRows(m, m.initialPositions(), m.nominalParameters());
   for (const auto& name : sc.caseNames) {
@@ -167,6 +168,11 @@ std::string checkReport(const CheckResult& r) {
           "of the dynamics (run checks that they stay satisfied; remove them from the scene, or "
           "replace joints by ones that constrain less, e.g. a spherical for a revolute in a planar loop):";
     for (const auto& l : r.redundantRows) os << " " << l;
+    os << "\n";
+  }
+  for (const auto& [body, groups] : r.meshGroups) {
+    os << "  node groups of " << body << " (Physical Points name single nodes; outputs and joints may name them):";
+    for (const auto& [g, count] : groups) os << " " << g << " (" << count << (count == 1 ? " node)" : " nodes)");
     os << "\n";
   }
   for (const CaseCheck& c : r.cases) {

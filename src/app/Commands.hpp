@@ -10,6 +10,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -124,6 +125,8 @@ struct CheckResult {
   int dim = 0, n = 0, m = 0;
   size_t elements = 0, constraints = 0, parameters = 0, outputs = 0;
   std::vector<std::string> redundantRows;  ///< left out by the reader
+  /// Meshed body -> its Physical Points and node groups (name, node count).
+  std::map<std::string, std::vector<std::pair<std::string, int>>> meshGroups;
   DependentRows stillDependent;            ///< after the elimination (empty unless a defect)
   std::vector<CaseCheck> cases;
 };

@@ -68,6 +68,19 @@ class Ramp : public TimeFunction {
   }
 };
 
+class Linear : public TimeFunction {
+ public:
+  Linear(double slope, double offset) : TimeFunction({"slope", "offset"}, {constant(slope), constant(offset)}) {}
+  std::string kind() const override { return "linear"; }
+
+ protected:
+  // c = (slope [unit/s], offset [unit]).
+  TimeValue eval(double t, const VecX& c) const override { return {c[1] + c[0] * t, c[0], 0.0}; }
+  TimeValue constantDerivative(double t, const VecX&, int i) const override {
+    return i == 0 ? TimeValue{t, 1.0, 0.0} : TimeValue{1.0, 0.0, 0.0};
+  }
+};
+
 class SmoothStep : public TimeFunction {
  public:
   SmoothStep(double t0, double t1, double from, double to)
@@ -181,6 +194,9 @@ class Table : public TimeFunction {
 std::unique_ptr<TimeFunction> makeConstant(double value) { return std::make_unique<Constant>(value); }
 std::unique_ptr<TimeFunction> makeRamp(double slope, double start, double offset) {
   return std::make_unique<Ramp>(slope, start, offset);
+}
+std::unique_ptr<TimeFunction> makeLinear(double slope, double offset) {
+  return std::make_unique<Linear>(slope, offset);
 }
 std::unique_ptr<TimeFunction> makeSmoothStep(double t0, double t1, double from, double to) {
   if (!(t1 > t0)) throw std::invalid_argument("smooth_step: need t1 > t0");

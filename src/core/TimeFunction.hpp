@@ -3,7 +3,10 @@
 // The unit of f is that of what it scales or prescribes (a factor [-] on a force, a
 // coordinate [m], an angle [rad]); t in [s].
 //   constant     f = value
-//   ramp         f = offset + slope max(0, t - start)
+//   ramp         f = offset + slope max(0, t - start); f' = 0 at t <= start (at rest until
+//                the kink, then at once `slope`: a ramp from t = 0 starts at zero speed)
+//   linear       f = offset + slope t for every t: f' = slope from t = 0 on (a driver at
+//                constant speed from the start)
 //   smooth_step  f = from + (to - from) s^3 (10 - 15 s + 6 s^2), s = (t - t0)/(t1 - t0) in [0, 1]
 //                (quintic: f, f', f'' continuous; f' = f'' = 0 at both ends)
 //   harmonic     f = offset + amplitude sin(omega t + phase)
@@ -53,6 +56,7 @@ class TimeFunction {
 
 std::unique_ptr<TimeFunction> makeConstant(double value);
 std::unique_ptr<TimeFunction> makeRamp(double slope, double start, double offset);
+std::unique_ptr<TimeFunction> makeLinear(double slope, double offset);
 /// t0 < t1 [s].
 std::unique_ptr<TimeFunction> makeSmoothStep(double t0, double t1, double from, double to);
 std::unique_ptr<TimeFunction> makeHarmonic(double amplitude, double omega, double phase, double offset);

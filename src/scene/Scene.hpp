@@ -63,6 +63,8 @@ struct Scene {
   std::vector<OutputSpec> outputs;
   OutputSettings output;
   std::vector<std::string> caseNames;  ///< all PIM cases the scene defines, in order
+  /// Meshed body -> its Physical Points and node groups (name, node count), for `check`.
+  std::map<std::string, std::vector<std::pair<std::string, int>>> meshGroups;
   std::unique_ptr<PimCase> pimCase;    ///< the case this model was built for, if any
   /// An input error that only integration needs to raise (a massless direction nothing
   /// restrains, with file:line and key); run, check and modes throw it. Empty: none.

@@ -94,8 +94,8 @@ bool SceneContext::slopeAlong(int id, const std::string& body, const Eigen::Vect
          "node '" + nd.name + "' already carries the slope of ANCF chain '" + owner->second + "' along " + fmt(s) +
              "; '" + body + "' leaves it along " + fmt(t) +
              ": one slope per node would weld the two chains there. For a pin, end one chain at its own node "
-             "at the same place and join the two by a spherical constraint; to weld them, give the node a "
-             "'slope'");
+             "at the same place and join the two by a spherical constraint; to weld them, give the node " +
+             (nd.gradients(m.dim) == 3 ? std::string("its 'gradients' (r_x, r_y, r_z)") : std::string("a 'slope'")));
   return true;
 }
 

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <array>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -48,6 +49,11 @@ class SceneContext {
   std::map<int, std::string> slopeOwner;  ///< node -> the ANCF chain that set its slope
   std::map<std::string, RigidBodyInfo> rigidBodies;
   std::map<std::string, std::array<int, 2>> planarRigidBodies;  ///< name -> basic points A, B
+  /// Readers that need every element read first (a torque through a node's slope, which its
+  /// ANCF chain sets, wherever the chain is listed): run in order after the elements.
+  std::vector<std::function<void()>> afterElements;
+  /// Meshed body -> its Physical Points and node groups with their node counts (for `check`).
+  std::map<std::string, std::vector<std::pair<std::string, int>>> meshGroups;
   std::string geoFile;  ///< the scene's Gmsh geometry, if any
   GmshOptions gmsh;     ///< the Gmsh child's limits (scene key `limits`) and the scene's folder
 
@@ -86,6 +92,11 @@ class SceneContext {
   /// Sets the initial velocity of a node, failing if another item gave it a different one.
   void setVelocity(int id, const Eigen::Vector3d& v, const YAML::Node& item, const std::string& path);
   void velocitySetBy(int id, const std::string& path) { velocitySetBy_[id] = path; }
+  /// The key path that gave node `id` its initial velocity, or null when none did (default 0).
+  const std::string* velocitySource(int id) const {
+    const auto it = velocitySetBy_.find(id);
+    return it == velocitySetBy_.end() ? nullptr : &it->second;
+  }
   /// `item.axis`, `item.from`, `item.to`: three node pairs of a signed joint angle.
   AngleNodes angleNodes(const YAML::Node& item, const std::string& path) const;
   /// The angle at the initial positions [rad]; fails where it is undefined.

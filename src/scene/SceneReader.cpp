@@ -318,6 +318,8 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (root["nodes"] || !(root["geometry"] || meshedBody)) readNodes(ctx, r.require(root, "nodes", ""));
   if (root["elements"] && root["elements"].IsSequence()) requireSegmentMemory(ctx, root["elements"]);
   if (root["elements"]) readItems(ctx, root["elements"], "elements", "element", elementKinds());
+  for (const auto& finish : ctx.afterElements) finish();
+  sc.meshGroups = ctx.meshGroups;
   ctx.checkSlopes();
   deriveSlopeRates(ctx);
   if (root["constraints"]) readItems(ctx, root["constraints"], "constraints", "constraint", constraintKinds());

@@ -73,6 +73,9 @@ std::unique_ptr<TimeFunction> readTimeFunction(SceneContext& ctx, const YAML::No
   } else if (type == "ramp") {
     r.allowKeys(fn, path, {"type", "slope", "start", "offset"});
     f = makeRamp(num("slope"), num("start", 0.0), num("offset", 0.0));
+  } else if (type == "linear") {
+    r.allowKeys(fn, path, {"type", "slope", "offset"});
+    f = makeLinear(num("slope"), num("offset", 0.0));
   } else if (type == "smooth_step") {
     r.allowKeys(fn, path, {"type", "t0", "t1", "from", "to"});
     const double t0 = num("t0"), t1 = num("t1");
@@ -99,7 +102,7 @@ std::unique_ptr<TimeFunction> readTimeFunction(SceneContext& ctx, const YAML::No
     f = makeTable(std::move(t), std::move(v), num("scale", 1.0));
   } else {
     r.fail(fn["type"], path + ".type",
-           "unknown time function '" + type + "'; expected constant, ramp, smooth_step, harmonic, spin_up or table");
+           "unknown time function '" + type + "'; expected constant, ramp, linear, smooth_step, harmonic, spin_up or table");
   }
   for (auto& [k, q] : f->properties()) ctx.bind(item + "." + k, q);
   return f;
