@@ -1,10 +1,19 @@
 #!/usr/bin/env python3
-# Independent CST plane-stress solution of Cook's membrane on a structured n x n mesh (pure Python, banded solve).
-def cook(n, E=1.0, nu=1/3.0):
+# Independent CST plane-stress solution of Cook's membrane on a structured n x n mesh (pure Python,
+# banded solve): the vertical displacement of the right edge's top corner and of its midpoint.
+#   cook_cst_reference.py N ...          Cook's panel (corners (0,0), (48,44), (48,60), (0,44))
+#   cook_cst_reference.py --beam N ...   its check: a 48 x 12 rectangular cantilever, tip shear 1
+#                                        (Timoshenko beam deflection ~269)
+import sys
+
+
+def cst(n, bottom, top, E=1.0, nu=1/3.0):
+    """Panel 0 <= x <= 48 between the edges y = bottom(s), top(s), s = x / 48; left edge clamped,
+    a total shear 1 spread uniformly over the right edge."""
     X=[]
     for j in range(n+1):
         for i in range(n+1):
-            s=i/n; t=j/n; yb=44*s; yt=44+16*s
+            s=i/n; t=j/n; yb=bottom(s); yt=top(s)
             X.append((48*s, yb+t*(yt-yb)))
     N=len(X); idx=lambda i,j:j*(n+1)+i
     tris=[]
@@ -29,9 +38,10 @@ def cook(n, E=1.0, nu=1/3.0):
                 v=A*sum(B[r][a_]*DB[r][b_] for r in range(3))
                 K[dofs[a_]][dofs[b_]]=K[dofs[a_]].get(dofs[b_],0.0)+v
     F=[0.0]*nd
+    height=top(1.0)-bottom(1.0)
     for j in range(n):
         a,b=idx(n,j),idx(n,j+1); L=X[b][1]-X[a][1]
-        F[2*a+1]+=0.5*L/16; F[2*b+1]+=0.5*L/16
+        F[2*a+1]+=0.5*L/height; F[2*b+1]+=0.5*L/height
     fixed=set()
     for j in range(n+1): fixed|={2*idx(0,j),2*idx(0,j)+1}
     for k in fixed:
@@ -51,6 +61,14 @@ def cook(n, E=1.0, nu=1/3.0):
     for k in range(nd-1,-1,-1):
         s=F[k]-sum(v*u[col] for col,v in K[k].items() if col>k)
         u[k]=s/K[k][k]
-    return u[2*idx(n,n)+1]
-import sys
-for n in map(int, sys.argv[1:]): print(n, cook(n))
+    return u[2*idx(n,n)+1], u[2*idx(n,n//2)+1]
+
+
+if __name__ == "__main__":
+    beam = "--beam" in sys.argv
+    for n in (int(a) for a in sys.argv[1:] if a != "--beam"):
+        if beam:
+            print(n, "tip", cst(n, lambda s: 0.0, lambda s: 12.0)[0])
+        else:
+            corner, mid = cst(n, lambda s: 44*s, lambda s: 44+16*s)
+            print(n, "corner", corner, "midpoint", mid)
