@@ -2,8 +2,8 @@
 """Scenes of the two classic shell benchmarks for `flexsens static`, written as a user would
 from docs/scene-reference.md: a Gmsh .msh (ASCII 2.2) of near-equilateral triangles (the
 discrete shell's hinge energy is isotropic only on such meshes, docs/theory.md) and a scene
-whose diaphragm ends hold the two in-plane displacement components of each end node with
-`prescribed_coordinate` entries (the axial one stays free).
+whose diaphragm ends hold the two in-plane displacement components of each end node with a
+`support: [{group: ends, fix: [y, z]}]` on the shell (the axial one stays free).
 
   roof N      Scordelis-Lo roof: R 25, L 50, t 0.25, E 4.32e8, nu 0, 90 per unit area
               (gravity 10 x density 36 x t), 80 deg span, diaphragm ends; N elements along L.
@@ -46,20 +46,26 @@ def lattice(nx, ns, lx, ls, periodic):
     return nodes, rows, tris
 
 
-def write_msh(path, xyz, tris, points):
-    """Gmsh ASCII 2.2: Physical Surface 1 "shell" and one Physical Point per (name, node)."""
+def write_msh(path, xyz, tris, points, ends):
+    """Gmsh ASCII 2.2: Physical Surface 1 "shell", one Physical Point per (name, node), and
+    Physical Curve "ends": the diaphragm edges, as the segments (a, b) of `ends`."""
     with open(path, "w") as f:
-        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n%d\n" % (1 + len(points)))
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n%d\n" % (2 + len(points)))
         f.write('2 1 "shell"\n')
         for k, (name, _) in enumerate(points):
             f.write('0 %d "%s"\n' % (k + 2, name))
+        ends_tag = len(points) + 2
+        f.write('1 %d "ends"\n' % ends_tag)
         f.write("$EndPhysicalNames\n$Nodes\n%d\n" % len(xyz))
         for i, p in enumerate(xyz):
             f.write("%d %.17g %.17g %.17g\n" % (i + 1, p[0], p[1], p[2]))
-        f.write("$EndNodes\n$Elements\n%d\n" % (len(tris) + len(points)))
+        f.write("$EndNodes\n$Elements\n%d\n" % (len(tris) + len(points) + len(ends)))
         eid = 1
         for k, (_, node) in enumerate(points):
             f.write("%d 15 2 %d %d %d\n" % (eid, k + 2, k + 1, node + 1))
+            eid += 1
+        for a, b in ends:
+            f.write("%d 1 2 %d %d %d %d\n" % (eid, ends_tag, ends_tag, a + 1, b + 1))
             eid += 1
         for t in tris:
             f.write("%d 2 2 1 1 %d %d %d\n" % (eid, t[0] + 1, t[1] + 1, t[2] + 1))
@@ -67,18 +73,14 @@ def write_msh(path, xyz, tris, points):
         f.write("$EndElements\n")
 
 
+def end_segments(rows, periodic):
+    """The segments along both ends x = 0 and x = L: consecutive rows' first (last) nodes."""
+    count = len(rows) if periodic else len(rows) - 1
+    return [(rows[j][k], rows[(j + 1) % len(rows)][k]) for k in (0, -1) for j in range(count)]
+
+
 def node_name(i, named):
     return named.get(i, "shell.%d" % (i + 1))
-
-
-def diaphragm_lines(end_nodes, named):
-    """Two prescribed_coordinate entries (y, z held) per diaphragm node."""
-    out = []
-    for i in end_nodes:
-        for ax in ("y", "z"):
-            out.append("  - {name: d%d%s, type: prescribed_coordinate, node: %s, axis: %s, "
-                       "function: {type: constant, value: 0}}" % (i + 1, ax, node_name(i, named), ax))
-    return out
 
 
 def roof(n, outdir):
@@ -89,13 +91,11 @@ def roof(n, outdir):
     xyz = [(x, R * math.sin(s / R - span / 2), R * math.cos(s / R - span / 2)) for x, s in nodes]
     mid = rows[0][n // 2]  # free edge (theta = -40 deg), x = L/2
     named = {mid: "midside"}
-    write_msh(os.path.join(outdir, "roof_%d.msh" % n), xyz, tris, [("midside", mid)])
-    ends = [r[0] for r in rows] + [r[-1] for r in rows]
+    write_msh(os.path.join(outdir, "roof_%d.msh" % n), xyz, tris, [("midside", mid)], end_segments(rows, False))
     lines = ["# Scordelis-Lo roof, %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)" % (n, ns, len(xyz)),
              "dimension: 3", "gravity: [0, 0, -10]", "elements:",
              "  - {name: shell, type: shell, mesh: roof_%d.msh, group: shell, E: 4.32e8, nu: 0.0," % n,
-             "     density: 36, thickness: 0.25}", "constraints:"]
-    lines += diaphragm_lines(ends, named)
+             "     density: 36, thickness: 0.25, support: [{group: ends, fix: [y, z]}]}", "constraints:"]
     # the axial rigid motion: the free edges' middle nodes hold x (zero by symmetry)
     for k, node in enumerate((mid, rows[ns][n // 2])):
         lines.append("  - {name: axial%d, type: prescribed_coordinate, node: %s, axis: x, "
@@ -115,15 +115,14 @@ def cylinder(n, outdir):
     xyz = [(x, R * math.sin(s / R), R * math.cos(s / R)) for x, s in nodes]
     top, bottom = rows[0][n // 2], rows[ns // 2][n // 2]
     named = {top: "top", bottom: "bottom"}
-    write_msh(os.path.join(outdir, "cylinder_%d.msh" % n), xyz, tris, [("top", top), ("bottom", bottom)])
-    ends = [r[0] for r in rows] + [r[-1] for r in rows]
+    write_msh(os.path.join(outdir, "cylinder_%d.msh" % n), xyz, tris, [("top", top), ("bottom", bottom)],
+              end_segments(rows, True))
     lines = ["# Pinched cylinder with diaphragms, %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)"
              % (n, ns, len(xyz)), "dimension: 3", "gravity: [0, 0, 0]", "elements:",
              "  - {name: shell, type: shell, mesh: cylinder_%d.msh, group: shell, E: 3.0e6, nu: 0.3," % n,
-             "     density: 1, thickness: 3.0}",
+             "     density: 1, thickness: 3.0, support: [{group: ends, fix: [y, z]}]}",
              "  - {name: P_top, type: point_force, node: top, force: [0, 0, -1]}",
              "  - {name: P_bottom, type: point_force, node: bottom, force: [0, 0, 1]}", "constraints:"]
-    lines += diaphragm_lines(ends, named)
     # the axial rigid motion: the loaded points hold x (zero by symmetry)
     for name in ("top", "bottom"):
         lines.append("  - {name: axial_%s, type: prescribed_coordinate, node: %s, axis: x, "
