@@ -28,6 +28,7 @@ struct SweepRequest {
   std::optional<std::uint64_t> seed;     ///< --seed (Latin hypercube), default 1
   std::vector<std::string> cases;        ///< PIM cases; empty: every case of the scene
   bool statics = false;                  ///< each sample is `flexsens static`
+  bool perturbedStart = false;           ///< --start perturbed: a run starts as Scene.run(parameters=)
   std::optional<int> loadSteps;          ///< static: --load-steps
   std::vector<double> times;             ///< --at [s]; empty: t_end
   std::vector<std::string> outputs;      ///< --output; empty: every output of the scene

@@ -87,6 +87,9 @@ void checkStaticOptions(const SweepRequest& req) {
                      "--rho-inf, --rtol, --newton, --projections and the nd options");
   if (!req.times.empty()) throw InputError("option --at: a static sweep keeps the equilibrium at load factor 1");
   if (!req.cases.empty()) throw InputError("option --case: a static sweep has no PIM cases");
+  if (req.perturbedStart)
+    throw InputError("option --start: a static sweep finds each equilibrium from the scene's positions; leave out "
+                     "--start perturbed");
   if (req.loadSteps && (*req.loadSteps < 1 || *req.loadSteps > 100000))
     throw InputError("option --load-steps: expected 1 to 100000");
   if (o.method && *o.method != "dd" && *o.method != "ad")
@@ -167,6 +170,7 @@ SweepPlan prepareSweep(const SweepRequest& req) {
   s.options = req.options;
   s.options.outDir.reset();
   s.statics = req.statics;
+  s.perturbedStart = req.perturbedStart;
   s.loadSteps = req.loadSteps;
   s.columns = plan.table.columns;
   s.keepFiles = req.keepSamples;

@@ -92,7 +92,13 @@ std::string runInto(const SweepSetup& setup, const Sample& sample, const std::st
   req.options = setup.options;
   req.options.outDir = dir;
   if (!sample.caseName.empty()) req.cases = {sample.caseName};
-  req.parameterValues = sample.values;
+  if (setup.perturbedStart) {
+    // The nominal scene, moved to the values as a PIM case says its start moves (Python's
+    // Scene.run(parameters=)): a rigidized body stays undeformed.
+    for (const auto& [name, value] : sample.values) req.options.parameters.emplace_back(name, value);
+  } else {
+    req.parameterValues = sample.values;
+  }
   std::vector<RunCase> cases = prepareRun(req);
   for (RunCase& c : cases) c.scene.output.vtk = false;  // a sweep keeps numbers, not frames
   const RunCommandResult r = runCases(cases);

@@ -30,6 +30,9 @@ struct SweepSetup {
   std::string scenePath;
   RunOptions options;            ///< run options given on the command line
   bool statics = false;          ///< `flexsens static` per sample
+  /// The run starts from the case's perturbed start at the sample's values (app/ParameterValues.hpp)
+  /// instead of the scene with the values written in.
+  bool perturbedStart = false;
   std::optional<int> loadSteps;  ///< static: --load-steps
   std::vector<OutputColumn> columns;
   double timeTolerance = 1e-9;   ///< [s] a series.csv row is at time T within this (frame spacing / 1000)

@@ -19,6 +19,10 @@ void addDesignOptions(CLI::App* s, SweepArgs& a) {
   s->add_option("--case,--cases", a.request.cases, "PIM case (repeatable or comma-separated; default: every case)")
       ->delimiter(',');
   s->add_flag("--static", a.request.statics, "each sample is a static equilibrium (flexsens static)");
+  s->add_option("--start", a.start,
+                "a run's start: scene (the scene with the sample's values written in, default) | perturbed (the "
+                "nominal start moved to the values as a PIM case says, as Scene.run(parameters=) in Python)")
+      ->check(CLI::IsMember({"scene", "perturbed"}));
   s->add_option("--load-steps", a.loadSteps, "static: equal load increments");
   s->add_option("--at", a.request.times, "time [s] at which outputs are kept (repeatable; a frame time; default t_end)");
   s->add_option("--output", a.request.outputs, "output kept (repeatable; default: every output of the scene)");
@@ -88,6 +92,7 @@ int executeSweep(SweepArgs& a) {
   if (a.command->count("--seed")) req.seed = a.seed;
   if (a.command->count("--load-steps")) req.loadSteps = a.loadSteps;
   req.plots = !a.noPlots;
+  req.perturbedStart = a.start == "perturbed";
   installInterruptHandlers();
   const SweepResult r = sweepCommand(req);
   if (!r.reporter) return 0;  // ranks 1..P-1: rank 0 reports

@@ -15,6 +15,7 @@ struct SweepArgs {
   int loadSteps = 0;
   std::uint64_t seed = 1;
   bool noPlots = false;
+  std::string start = "scene";
 };
 
 void addSweep(CLI::App& app, SweepArgs& a);

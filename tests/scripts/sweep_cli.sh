@@ -4,7 +4,7 @@
 # the scene with the value written into it), failing and hanging samples kept with their
 # reason while the sweep goes on, bad options, the output folder's safety, Ctrl-C.
 # One part per ctest entry (each well under 30 s):
-#   bash tests/scripts/sweep_cli.sh <build>/flexsens <checkout> grid|lhs|cases|static|failures|errors|output|interrupt
+#   bash tests/scripts/sweep_cli.sh <build>/flexsens <checkout> grid|lhs|cases|perturbed|static|failures|errors|output|interrupt
 set -u
 . "$(dirname "$0")/sweep_lib.sh"
 
@@ -61,6 +61,25 @@ part_cases() {
   (cd "$W" && "$FLEXSENS" run fb.yaml --case F5 --t-end 0.3 --out own > /dev/null 2>&1); rc=$?
   expect "its own run exits 0 (got $rc)" '[ $rc = 0 ]'
   expect "z2 and dz2/dL_B1 equal, digit for digit" 'same_as_run "$W/c/sweep.csv" 3 "$W/own/F5/series.csv"'
+}
+
+part_perturbed() {
+  echo "== --start perturbed: case F1 of the five-bar over L_A1 = sqrt(2) -+ 1e-4 (F1 rigidizes what L_A1 moves)"
+  local low=1.4141135623730951 high=1.4143135623730951
+  sweep "$FB" --case F1 --parameter L_A1=$low:$high:3 --t-end 0.3 --out sc --no-plots
+  expect "from the scene's positions (default): the two off-nominal samples fail naming the deformed body" \
+    '[ $rc = 5 ] && [ "$(cell "$W/sc/sweep.csv" 0 status)" = failed ] && grep -q "not undeformed" "$W/sc/sweep.csv"'
+  sweep "$FB" --case F1 --parameter L_A1=$low:$high:3 --t-end 0.3 --start perturbed --out pe --no-plots
+  expect "from the perturbed start: exit 0 (got $rc), every sample complete" \
+    '[ $rc = 0 ] && [ "$(grep -c ",complete,," "$W/pe/sweep.csv")" = 3 ]'
+  expect "the middle sample's dz2/dL_A1 equals the central difference of the outer two runs to 1e-6" \
+    'python3 -c "
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))
+fd = (float(r[2][\"z2@0.3\"]) - float(r[0][\"z2@0.3\"])) / (float(r[2][\"L_A1\"]) - float(r[0][\"L_A1\"]))
+exact = float(r[1][\"dz2/dL_A1@0.3\"])
+assert abs(fd - exact) <= 1e-6 * abs(exact), (fd, exact)
+" "$W/pe/sweep.csv"'
 }
 
 part_static() {
@@ -124,6 +143,7 @@ part_errors() {
     "--at|--parameter k=1:2:3 --at 0.123|not a frame time"
     "--output|--parameter k=1:2:3 --output nope|no output 'nope'"
     "--at|--parameter k=1:2:3 --static --at 0.5|static sweep"
+    "--start|--parameter k=1:2:3 --static --start perturbed|static sweep finds each equilibrium"
   )
   for c in "${cases[@]}"; do
     IFS='|' read -r option args message <<< "$c"
