@@ -4,8 +4,11 @@
 // gradients are the scene's `gradients` or else a frame from the chain: r_x its tangent (as
 // the cable's slope), r_y the element's `y_axis` (default: the global axis least aligned with
 // r_x) made normal to r_x, r_z = r_x x r_y. Each element's rest shape is straight, of its
-// initial chord length, with orthonormal gradients. A ground node is pinned (gradients free)
+// initial chord length, with orthonormal gradients: a chain that starts otherwise is refused
+// unless `rest_shape: straight` says it starts deformed on purpose. A ground node is pinned (gradients free)
 // unless it is `clamped` (every gradient fixed).
+#include <sstream>
+
 #include "elements/AncfBeam3D.hpp"
 #include "scene/KindTable.hpp"
 
@@ -36,13 +39,48 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
   return sec;
 }
 
+/// `rest_shape`: absent or `initial` (false), `straight` (true: the scene starts the beam
+/// deformed on purpose).
+bool straightRestDeclared(const YamlReader& r, const YAML::Node& el, const std::string& path) {
+  if (!el["rest_shape"]) return false;
+  const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
+  if (rs != "initial" && rs != "straight")
+    r.fail(el["rest_shape"], path + ".rest_shape", "expected initial (default) or straight; got '" + rs + "'");
+  return rs == "straight";
+}
+
+/// The element a-b's rest shape is straight, its chord long, with one orthonormal frame (r_x along
+/// the chord) at both ends. A chain that starts otherwise (curved, twisted, stretched gradients)
+/// would spring towards that straight shape: refused, naming the node and the deviation, unless
+/// the scene says `rest_shape: straight`. (Curved rest shapes are not supported by ancf_beam.)
+void requireRestAtStart(const YamlReader& r, const Model& m, int a, int b, const Eigen::Vector3d& chord,
+                        const YAML::Node& key, const std::string& keyPath) {
+  const VecX& ga = m.nodes[a].slope;
+  const VecX& gb = m.nodes[b].slope;
+  Eigen::Matrix3d Ga = Eigen::Map<const Eigen::Matrix3d>(ga.data());
+  Eigen::Matrix3d Gb = Eigen::Map<const Eigen::Matrix3d>(gb.data());
+  const double bend = std::max((Ga.col(0) - chord).norm(), (Gb.col(0) - chord).norm());
+  const double twist = (Ga - Gb).norm();
+  const double frame = (Ga.transpose() * Ga - Eigen::Matrix3d::Identity()).norm();
+  if (bend <= 1e-9 && twist <= 1e-9 && frame <= 1e-9) return;
+  std::ostringstream os;
+  os << "the ancf_beam starts deformed between nodes '" << m.nodes[a].name << "' and '" << m.nodes[b].name
+     << "' (r_x off the chord by " << bend << ", the two frames apart by " << twist
+     << ", gradients off orthonormal by " << frame << "): its rest shape is straight, so a curved or twisted "
+     << "chain would spring towards straight at t = 0. Curved rest shapes are not supported for ancf_beam "
+     << "(nodes off one line start it bent): mesh a curved beam as a solid, or say rest_shape: straight to "
+     << "start from this deformed shape on purpose";
+  r.fail(key, keyPath, os.str());
+}
+
 }  // namespace
 
 void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   ctx.requireSpatial(el, path, "ancf_beam");
-  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "nu", "density", "section", "y_axis"});
+  r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "nu", "density", "section", "y_axis",
+                         "rest_shape"});
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
   auto nodeKey = [&](size_t j) { return el["nodes"] ? el["nodes"][j] : el["curve"]; };
   auto nodePath = [&](size_t j) { return el["nodes"] ? at(path + ".nodes", j) : path + ".curve"; };
@@ -87,6 +125,8 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
     nd.slope.resize(9);
     nd.slope << tx, y, tx.cross(y);
   }
+  if (!straightRestDeclared(r, el, path))
+    for (size_t j = 0; j + 1 < ids.size(); ++j) requireRestAtStart(r, m, ids[j], ids[j + 1], dir[j], nodeKey(j + 1), nodePath(j + 1));
   auto sec = readSection(r, el, path);
   ctx.bindAll(name, sec->properties());
   ctx.bodies[name] = {ids, nullptr, true};

@@ -324,7 +324,7 @@ TEST(AncfBeam3DTorsion, TwistIsTLOverGIp) {
 // ------------------------------------------------------------------------------ scenes
 namespace {
 
-std::string beamScene(bool clamped, const std::string& extraNode = "") {
+std::string beamScene(bool clamped, const std::string& extraNode = "", const std::string& extraElement = "") {
   return "dimension: 3\n"
          "gravity: [0, 0, -9.81]\n"
          "nodes:\n"
@@ -333,7 +333,7 @@ std::string beamScene(bool clamped, const std::string& extraNode = "") {
          "  - {name: n2, position: [1, 0, 0]}\n"
          "elements:\n"
          "  - {name: b, type: ancf_beam, nodes: [A, n1, n2], E: 2.0e11, nu: 0.3, density: 7850,\n"
-         "     section: {width: 0.02, height: 0.01}}\n"
+         "     section: {width: 0.02, height: 0.01}" + extraElement + "}\n"
          "integrator: {type: trapezoidal, t_end: 0.1, dt: 0.01}\n";
 }
 
@@ -381,7 +381,17 @@ TEST(AncfBeam3DScene, GradientsClampAndPin) {
 // Given gradients: a y_axis / gradients key sets the section's orientation; a node with a
 // cable slope on an ancf_beam is an input error.
 TEST(AncfBeam3DScene, GivenGradients) {
-  const Scene sc = readSceneText(beamScene(true, ", gradients: [[1, 0, 0], [0, 0, 1], [0, -1, 0]]"), "beam.yaml");
+  // n1's section turned by 90 degrees about x: the chain starts twisted, which the straight rest
+  // shape would undo; accepted only when the scene says it starts deformed on purpose.
+  const std::string turned = ", gradients: [[1, 0, 0], [0, 0, 1], [0, -1, 0]]";
+  try {
+    readSceneText(beamScene(true, turned), "beam.yaml");
+    ADD_FAILURE() << "a twisted start was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the two frames apart by 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rest_shape: straight"), std::string::npos) << e.what();
+  }
+  const Scene sc = readSceneText(beamScene(true, turned, ", rest_shape: straight"), "beam.yaml");
   const VecX g = sc.model->nodes[1].slope;
   EXPECT_EQ((g - (VecX(9) << 1, 0, 0, 0, 0, 1, 0, -1, 0).finished()).norm(), 0.0);
   EXPECT_THROW(readSceneText(beamScene(true, ", slope: [1, 0, 0]"), "beam.yaml"), InputError);
@@ -438,7 +448,7 @@ TEST(AncfBeam3DRigidization, LeavesTheRigidMotions) {
         "  - {name: n3, position: [" + std::string(c.kinked ? "0.6, 1.5, 1.0" : "1.3, 1.4, 0.9") + "]}\n"
         "elements:\n"
         "  - {name: b, type: ancf_beam, nodes: [A, n1, n2, n3], E: 2.0e11, nu: 0.3, density: 7850,\n"
-        "     section: {width: 0.02, height: 0.01}}\n"
+        "     section: {width: 0.02, height: 0.01}, rest_shape: straight}\n"  // kinked: starts bent
         "integrator: {type: trapezoidal, t_end: 0.1, dt: 0.01}\n";
     const Scene sc = readSceneText(text, "body.yaml");
     const Model& m = *sc.model;
