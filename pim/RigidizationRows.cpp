@@ -18,44 +18,39 @@ namespace {
 
 using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor, int64_t>;
 
-/// For each row of L, the coordinate it pivots on (-1: none). A pivot coordinate is touched by
-/// that row alone among L's rows, and its entry is not small against the row's largest (the
-/// elimination's multipliers stay of the size of the coefficients).
-std::vector<int> pivotColumns(const RowMajor& L) {
+/// Per row of L, whether it has an entry on a coordinate that no other row of L or J touches:
+/// nothing can cancel that entry, so the row is independent of all others and takes no part in
+/// their choice. The entry must not be small against the row's largest (a round-off entry
+/// would not make the row independent in floating point).
+std::vector<bool> ownsACoordinate(const RowMajor& J, const RowMajor& L) {
   std::vector<int> rowsTouching(L.cols(), 0);
-  for (int r = 0; r < L.rows(); ++r)
-    for (RowMajor::InnerIterator it(L, r); it; ++it)
-      if (it.value() != 0.0) ++rowsTouching[it.col()];
-  std::vector<int> pivot(L.rows(), -1);
+  for (const RowMajor* M : {&J, &L})
+    for (int r = 0; r < M->rows(); ++r)
+      for (RowMajor::InnerIterator it(*M, r); it; ++it)
+        if (it.value() != 0.0) ++rowsTouching[it.col()];
+  std::vector<bool> owns(L.rows(), false);
   for (int r = 0; r < L.rows(); ++r) {
-    double rowMax = 0.0, best = 0.0;
+    double rowMax = 0.0;
     for (RowMajor::InnerIterator it(L, r); it; ++it) rowMax = std::max(rowMax, std::abs(it.value()));
     for (RowMajor::InnerIterator it(L, r); it; ++it)
-      if (rowsTouching[it.col()] == 1 && std::abs(it.value()) >= 1e-3 * rowMax && std::abs(it.value()) > best) {
-        best = std::abs(it.value());
-        pivot[r] = static_cast<int>(it.col());
-      }
+      if (rowsTouching[it.col()] == 1 && std::abs(it.value()) >= 1e-3 * rowMax) owns[r] = true;
   }
-  return pivot;
+  return owns;
 }
 
 /// The rows the greedy choice must look at, densely on the columns they touch: Phi's rows, then
-/// the rigidization rows without a pivot or whose pivot coordinate a constraint row touches
-/// (those can be implied by the constraints), in order.
+/// the rigidization rows that own no coordinate (those can be implied by the others), in order.
 struct ReducedRows {
   MatX phi;                   ///< Phi_q's rows
   MatX lambda;                ///< the rigidization rows in question
   std::vector<int> lambdaRow; ///< their row numbers in L
 };
 
-ReducedRows reduce(const RowMajor& J, const RowMajor& L, const std::vector<int>& pivot) {
+ReducedRows reduce(const RowMajor& J, const RowMajor& L, const std::vector<bool>& owns) {
   const int n = static_cast<int>(L.cols());
-  std::vector<bool> constrained(n, false);
-  for (int r = 0; r < J.rows(); ++r)
-    for (RowMajor::InnerIterator it(J, r); it; ++it) constrained[it.col()] = true;
   ReducedRows red;
   for (int r = 0; r < L.rows(); ++r)
-    if (pivot[r] < 0 || constrained[pivot[r]]) red.lambdaRow.push_back(r);
+    if (!owns[r]) red.lambdaRow.push_back(r);
   std::vector<int> columnOf(n, -1);
   int columns = 0;
   auto touchAll = [&](const RowMajor& M, int r) {
@@ -121,8 +116,7 @@ LambdaSelection selectRigidizationRows(const Assembler& as, const Assembler& lam
   const RowMajor J = as.m() ? RowMajor(as.phiQSparse(q, p)) : RowMajor(0, L.cols());
   double scale = 0.0;
   for (int r = 0; r < L.rows(); ++r) scale = std::max(scale, L.row(r).norm());
-  const std::vector<int> pivot = pivotColumns(L);
-  const ReducedRows red = reduce(J, L, pivot);
+  const ReducedRows red = reduce(J, L, ownsACoordinate(J, L));
   const std::vector<bool> keep = greedyKeep(red, 1e-10 * scale);
   std::vector<bool> kept(L.rows(), true);
   for (size_t i = 0; i < red.lambdaRow.size(); ++i) kept[red.lambdaRow[i]] = keep[i];
