@@ -64,17 +64,15 @@ FactoredPimMatrix factorPimMatrix(const SpMat& A, const std::vector<std::string>
                                   const std::string& advice) {
   FactoredPimMatrix f;
   f.lu = std::make_unique<SparseLU>();
-  SparseLU transposed;
   try {
     f.lu->factor(A, "PIM matrix A");
-    transposed.factor(SpMat(A.transpose()), "PIM matrix A^T");
   } catch (const NumericalError& e) {
     throwSingular(A, labels, what, advice, e.what());
   }
   VecX x = startVector(A.cols());
   const double largest = std::sqrt(powerIterations(x, [&](const VecX& v) { return VecX(A.transpose() * (A * v)); }));
   VecX v = startVector(A.cols());
-  const double inverse = std::sqrt(powerIterations(v, [&](const VecX& y) { return f.lu->solve(transposed.solve(y)); }));
+  const double inverse = std::sqrt(powerIterations(v, [&](const VecX& y) { return f.lu->solve(f.lu->solveTransposed(y)); }));
   const double smallest = 1.0 / inverse;
   f.condition = largest / smallest;
   if (!(smallest > 1e-12 * largest)) {

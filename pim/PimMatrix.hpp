@@ -17,8 +17,8 @@ struct FactoredPimMatrix {
 };
 
 /// Factorizes A and estimates its condition: sigma_max by power iterations on A^T A, sigma_min
-/// by inverse iterations (solves with A and A^T), each to 1e-6 relative or 300 iterations. A
-/// rank-deficient A (the LU fails, or sigma_min <= 1e-12 sigma_max) is a NumericalError naming
+/// by inverse iterations (solves with A and A^T from its one LU), each to 1e-6 relative or 300
+/// iterations. A rank-deficient A (the LU fails, or sigma_min <= 1e-12 sigma_max) is a NumericalError naming
 /// the rows that take part in the dependency (the large entries of the left singular vector of
 /// sigma_min: from the dense SVD when the LU failed and A fits the memory budget); a
 /// near-singular one (condition above 1e10) one with the estimate. `what` opens the messages

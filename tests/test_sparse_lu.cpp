@@ -197,5 +197,11 @@ TEST(SparseLU, CholeskyForSymmetricPositiveDefiniteKluForTheRest) {
       const VecX scale = A.cwiseAbs() * x.cwiseAbs() + VecX(B.col(col).cwiseAbs());
       EXPECT_LT(r.cwiseQuotient(scale).cwiseAbs().maxCoeff(), 1e-14);
     }
+    // The transposed solve with the same factors (KLU's tsolve; Cholesky: A is symmetric),
+    // against the dense LU of A^T (the skewed matrix is not symmetric: A^T x != A x).
+    const VecX b = B.col(0);
+    const VecX xt = lu.solveTransposed(b);
+    const VecX denseT = Eigen::MatrixXd(A).transpose().partialPivLu().solve(b);
+    EXPECT_LT((xt - denseT).cwiseAbs().maxCoeff(), 1e-11 * denseT.cwiseAbs().maxCoeff()) << c.skew << " " << c.shift;
   }
 }

@@ -192,6 +192,14 @@ void SparseLU::refine(MatX& b) const {
   b = x;
 }
 
+VecX SparseLU::solveTransposed(const VecX& b) const {
+  if (!factorized()) throw std::logic_error("SparseLU::solveTransposed before factor");
+  MatX x = b;
+  if (cholesky_) cholesky_->solve(x);
+  else klu_l_tsolve(symbolic_, numeric_, x.rows(), x.cols(), x.data(), &common_);
+  return x.col(0);
+}
+
 VecX SparseLU::solve(const VecX& b, bool refine) const {
   MatX& x = b_;
   x = b;

@@ -42,6 +42,9 @@ class SparseLU {
   /// inside an iteration that measures its own residual).
   void solve(MatX& b, bool refine = true) const;
   VecX solve(const VecX& b, bool refine = true) const;
+  /// Solves A^T x = b with the same factors, plainly (no refinement): KLU's transposed solve, or
+  /// the Cholesky factor's own solve (A symmetric). For estimates such as A's condition number.
+  VecX solveTransposed(const VecX& b) const;
   /// Reciprocal condition estimate of the last factorization (KLU's rcond, cheap).
   double rcond() const;
   long factorizations() const { return count_; }
