@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "elements/AncfBeam3D.hpp"
+#include "elements/BeamSectionReader.hpp"
 #include "scene/KindTable.hpp"
 
 namespace flexsens {
@@ -37,16 +38,6 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
     sec->height = {r.positive(r.require(s, "height", sp), sp + ".height"), -1};
   }
   return sec;
-}
-
-/// `rest_shape`: absent or `initial` (false), `straight` (true: the scene starts the beam
-/// deformed on purpose).
-bool straightRestDeclared(const YamlReader& r, const YAML::Node& el, const std::string& path) {
-  if (!el["rest_shape"]) return false;
-  const std::string rs = r.text(el["rest_shape"], path + ".rest_shape");
-  if (rs != "initial" && rs != "straight")
-    r.fail(el["rest_shape"], path + ".rest_shape", "expected initial (default) or straight; got '" + rs + "'");
-  return rs == "straight";
 }
 
 /// The element a-b's rest shape is straight, its chord long, with one orthonormal frame (r_x along
@@ -125,7 +116,9 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
     nd.slope.resize(9);
     nd.slope << tx, y, tx.cross(y);
   }
-  if (!straightRestDeclared(r, el, path))
+  const bool startsDeformedOnPurpose = readStraightRest(
+      r, el, path, "initial (default: the chain starts straight and untwisted) or straight (it may start deformed)");
+  if (!startsDeformedOnPurpose)
     for (size_t j = 0; j + 1 < ids.size(); ++j) requireRestAtStart(r, m, ids[j], ids[j + 1], dir[j], nodeKey(j + 1), nodePath(j + 1));
   auto sec = readSection(r, el, path);
   ctx.bindAll(name, sec->properties());
