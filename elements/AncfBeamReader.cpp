@@ -1,12 +1,15 @@
 // Scene reader of ancf_beam (elements/AncfBeam3D.hpp, 3D only): a node chain (listed or
 // meshed from a Gmsh curve) becomes fully parameterized ANCF beam elements sharing one
 // material and section; each node of the chain carries the gradients r_x, r_y, r_z. A node's
-// gradients are the scene's `gradients` or else a frame from the chain: r_x its tangent (as
-// the cable's slope), r_y the element's `y_axis` (default: the global axis least aligned with
-// r_x) made normal to r_x, r_z = r_x x r_y. Each element's rest shape is straight, of its
-// initial chord length, with orthonormal gradients: a chain that starts otherwise is refused
-// unless `rest_shape: straight` says it starts deformed on purpose. A ground node is pinned (gradients free)
-// unless it is `clamped` (every gradient fixed).
+// gradients are the scene's `gradients` or else a frame from the chain: r_x its tangent (the
+// bisector of the two chords at an inner node, the first / last chord reflected about the
+// neighbour's tangent at an end: exact on a uniformly divided circular arc), r_y the element's
+// `y_axis` made normal to r_x (default: the global axis least aligned with the first tangent,
+// carried along the chain by projection, so the section does not turn about a curved axis),
+// r_z = r_x x r_y. The rest shape (`rest_shape: initial`, the default) is the chain as it
+// starts, curved or twisted; `rest_shape: straight` makes each element's rest shape straight,
+// of its initial chord length, with orthonormal gradients (the chain then starts deformed on
+// purpose). A ground node is pinned (gradients free) unless it is `clamped` (every gradient fixed).
 #include <sstream>
 
 #include "elements/AncfBeam3D.hpp"
@@ -40,28 +43,41 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
   return sec;
 }
 
-/// The element a-b's rest shape is straight, its chord long, with one orthonormal frame (r_x along
-/// the chord) at both ends. A chain that starts otherwise (curved, twisted, stretched gradients)
-/// would spring towards that straight shape: refused, naming the node and the deviation, unless
-/// the scene says `rest_shape: straight`. (Curved rest shapes are not supported by ancf_beam.)
-void requireRestAtStart(const YamlReader& r, const Model& m, int a, int b, const Eigen::Vector3d& chord,
-                        const YAML::Node& key, const std::string& keyPath) {
-  const VecX& ga = m.nodes[a].slope;
-  const VecX& gb = m.nodes[b].slope;
-  Eigen::Matrix3d Ga = Eigen::Map<const Eigen::Matrix3d>(ga.data());
-  Eigen::Matrix3d Gb = Eigen::Map<const Eigen::Matrix3d>(gb.data());
+/// The element a-b's coordinates (positions, gradients) as they start.
+VecX startCoordinates(const Model& m, int a, int b) {
+  VecX e(24);
+  e << m.nodes[a].position, m.nodes[a].slope, m.nodes[b].position, m.nodes[b].slope;
+  return e;
+}
+
+/// True when the element starts straight along its chord with one orthonormal frame at both ends
+/// (r_x along the chord): its rest shape is the straight one of its chord length.
+bool startsStraight(const VecX& e) {
+  const Eigen::Vector3d chord = (e.segment<3>(12) - e.segment<3>(0)).normalized();
+  const Eigen::Matrix3d Ga = Eigen::Map<const Eigen::Matrix3d>(e.data() + 3);
+  const Eigen::Matrix3d Gb = Eigen::Map<const Eigen::Matrix3d>(e.data() + 15);
   const double bend = std::max((Ga.col(0) - chord).norm(), (Gb.col(0) - chord).norm());
-  const double twist = (Ga - Gb).norm();
-  const double frame = (Ga.transpose() * Ga - Eigen::Matrix3d::Identity()).norm();
-  if (bend <= 1e-9 && twist <= 1e-9 && frame <= 1e-9) return;
-  std::ostringstream os;
-  os << "the ancf_beam starts deformed between nodes '" << m.nodes[a].name << "' and '" << m.nodes[b].name
-     << "' (r_x off the chord by " << bend << ", the two frames apart by " << twist
-     << ", gradients off orthonormal by " << frame << "): its rest shape is straight, so a curved or twisted "
-     << "chain would spring towards straight at t = 0. Curved rest shapes are not supported for ancf_beam "
-     << "(nodes off one line start it bent): mesh a curved beam as a solid, or say rest_shape: straight to "
-     << "start from this deformed shape on purpose";
-  r.fail(key, keyPath, os.str());
+  return bend <= 1e-9 && (Ga - Gb).norm() <= 1e-9 && (Ga.transpose() * Ga - Eigen::Matrix3d::Identity()).norm() <= 1e-9;
+}
+
+/// Unit tangents of the chain's nodes from the unit chords dir: the chords' bisector inside,
+/// the end chord reflected about the inner neighbour's tangent at an end (r_x along the chord
+/// for a two-node chain). The caller checks for a fold (zero bisector).
+std::vector<Eigen::Vector3d> chainTangents(const std::vector<Eigen::Vector3d>& dir) {
+  const size_t n = dir.size() + 1;
+  std::vector<Eigen::Vector3d> t(n);
+  for (size_t j = 1; j + 1 < n; ++j) t[j] = dir[j - 1] + dir[j];
+  if (n == 2) {
+    t[0] = t[1] = dir[0];
+    return t;
+  }
+  auto reflect = [](const Eigen::Vector3d& d, const Eigen::Vector3d& inner) {
+    const Eigen::Vector3d ti = inner.normalized();
+    return Eigen::Vector3d(2.0 * ti.dot(d) * d - ti);
+  };
+  t[0] = reflect(dir[0], t[1]);
+  t[n - 1] = reflect(dir[n - 2], t[n - 2]);
+  return t;
 }
 
 }  // namespace
@@ -87,6 +103,8 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
     yAxis = r.vector(el["y_axis"], path + ".y_axis", 3);
     if (!(yAxis.norm() > 0)) r.fail(el["y_axis"], path + ".y_axis", "expected a nonzero direction");
   }
+  const std::vector<Eigen::Vector3d> tangent = chainTangents(dir);
+  Eigen::Vector3d carried = Eigen::Vector3d::Zero();  // the previous node's r_y (default frames)
   for (size_t j = 0; j < ids.size(); ++j) {
     Node& nd = m.nodes[ids[j]];
     ctx.slopeUsers.insert(ids[j]);
@@ -97,13 +115,15 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
              "node '" + nd.name + "' carries one slope (ancf_cable); an ancf_beam node takes gradients (r_x, r_y, r_z)");
     }
     if (ctx.givenSlopes.count(ids[j])) continue;
-    const Eigen::Vector3d t = j == 0 ? dir[0] : (j + 1 == ids.size() ? dir[j - 1] : Eigen::Vector3d(dir[j - 1] + dir[j]));
+    const Eigen::Vector3d& t = tangent[j];
     if (!(t.norm() > 1e-12))
       r.fail(nodeKey(j), nodePath(j), "the chain folds back at this node: give the node gradients");
     const Eigen::Vector3d tx = t.normalized();
     if (ctx.slopeAlong(ids[j], name, tx, nodeKey(j), nodePath(j))) continue;
     Eigen::Vector3d y = yAxis;
-    if (!el["y_axis"]) {
+    if (!el["y_axis"] && (carried - carried.dot(tx) * tx).norm() > 0.5) {
+      y = carried;
+    } else if (!el["y_axis"]) {
       int least = 0;
       for (int c = 1; c < 3; ++c)
         if (std::abs(tx[c]) < std::abs(tx[least]) - 1e-12) least = c;
@@ -113,21 +133,28 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
     if (!(y.norm() > 1e-9 * yAxis.norm()) || !(y.norm() > 1e-9))
       r.fail(el["y_axis"], path + ".y_axis", "is along the beam at node '" + nd.name + "': expected a direction across it");
     y.normalize();
+    carried = y;
     nd.slope.resize(9);
     nd.slope << tx, y, tx.cross(y);
   }
-  const bool startsDeformedOnPurpose = readStraightRest(
-      r, el, path, "initial (default: the chain starts straight and untwisted) or straight (it may start deformed)");
-  if (!startsDeformedOnPurpose)
-    for (size_t j = 0; j + 1 < ids.size(); ++j) requireRestAtStart(r, m, ids[j], ids[j + 1], dir[j], nodeKey(j + 1), nodePath(j + 1));
+  const bool straightRest = readStraightRest(
+      r, el, path, "initial (default: the chain's starting shape, curved or twisted) or straight (it may start deformed)");
   auto sec = readSection(r, el, path);
   ctx.bindAll(name, sec->properties());
   ctx.bodies[name] = {ids, nullptr, true};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     ctx.slopeLinks.push_back({ids[j], ids[j + 1]});
-    m.elements.push_back(std::make_unique<AncfBeam3D>(name + ".element" + std::to_string(j),
-                                                      std::vector<int>{ids[j], ids[j + 1]}, sec,
-                                                      ctx.distance(ids[j], ids[j + 1])));
+    const VecX start = startCoordinates(m, ids[j], ids[j + 1]);
+    const bool curved = !straightRest && !startsStraight(start);
+    const std::string elName = name + ".element" + std::to_string(j);
+    try {
+      m.elements.push_back(std::make_unique<AncfBeam3D>(
+          elName, std::vector<int>{ids[j], ids[j + 1]}, sec,
+          curved ? AncfBeam3D::restLength(start) : ctx.distance(ids[j], ids[j + 1]), AncfBeam3D::kNormalPoints,
+          AncfBeam3D::kShearPoints, curved ? &start : nullptr));
+    } catch (const std::invalid_argument& e) {
+      r.fail(nodeKey(j + 1), nodePath(j + 1), std::string(e.what()) + "; give the nodes' gradients along the chain");
+    }
   }
 }
 
