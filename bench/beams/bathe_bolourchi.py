@@ -6,7 +6,7 @@ position (47.23, 15.79, 53.37) (Simo & Vu-Quoc 1986, also Bathe & Bolourchi 1979
 
 Usage: bathe_bolourchi.py FLEXSENS OUTDIR [N ...]   (writes the scenes, runs `flexsens static`,
 prints the tip and its error relative to the tip displacement)."""
-import csv, math, os, subprocess, sys, time
+import csv, math, os, subprocess, sys
 
 REFERENCE = (47.23, 15.79, 53.37)
 R, ANGLE, LOAD = 100.0, math.pi / 4, 600.0
@@ -52,10 +52,11 @@ def main():
         path = os.path.join(out, f"bend_{n}.yaml")
         with open(path, "w") as f:
             f.write(scene(n))
-        t0 = time.process_time()
+        before = os.times()
         run = subprocess.run([flexsens, "static", path, "--out", os.path.join(out, f"bend_{n}")],
                              capture_output=True, text=True)
-        cpu = os.times().children_user + os.times().children_system
+        after = os.times()
+        cpu = (after.children_user - before.children_user) + (after.children_system - before.children_system)
         if run.returncode != 0:
             print(f"{n:>4} failed: {run.stderr.strip()[-300:]}")
             continue
