@@ -11,6 +11,7 @@ namespace flexsens {
 
 std::vector<std::pair<std::string, Quantity*>> AncfBeamSection::properties() {
   std::vector<std::pair<std::string, Quantity*>> r = {{"E", &E}, {"nu", &nu}, {"density", &density}};
+  if (general) return r;
   if (square) r.push_back({"side", &side});
   else {
     r.push_back({"width", &width});
@@ -102,16 +103,19 @@ AncfBeam3D::AncfBeam3D(std::string name, std::vector<int> nodes, std::shared_ptr
   const double c = 0.5 / std::sqrt(3.0);
   struct Group {
     int points, strains;  // Gauss points along the axis, the strains' bits (1 << k)
+    double reach;         // section points at reach x (eta, zeta): the torsion scale for the shear
   };
   const int axial = 1 << 0, shear = (1 << 3) | (1 << 4);
-  const std::vector<Group> groups = normalPoints == shearPoints ? std::vector<Group>{{normalPoints, axial | shear}}
-                                                                : std::vector<Group>{{normalPoints, axial}, {shearPoints, shear}};
+  const double s = sec_->torsionScale;
+  const std::vector<Group> groups = normalPoints == shearPoints && s == 1.0
+                                        ? std::vector<Group>{{normalPoints, axial | shear, 1.0}}
+                                        : std::vector<Group>{{normalPoints, axial, 1.0}, {shearPoints, shear, s}};
   for (const Group& gr : groups) {
     std::vector<double> xs, ws;
     gaussLegendre01(gr.points, xs, ws);
     for (int g = 0; g < gr.points; ++g)
       for (double eta : {-c, c})
-        for (double zeta : {-c, c}) addPoint({xs[g], eta, zeta, 0.25 * ws[g], gr.strains});
+        for (double zeta : {-c, c}) addPoint({xs[g], gr.reach * eta, gr.reach * zeta, 0.25 * ws[g], gr.strains});
   }
   // The section's own strains (E_yy, E_zz, E_yz) at the two nodes on the axis (trapezoidal rule),
   // where r_y, r_z are the nodal gradients themselves: between the nodes their linear
@@ -218,7 +222,11 @@ void AncfBeam3D::checkState(const LocalState& s) const {
 template <class T>
 MatT<T> AncfBeam3D::massT(const LocalState&, const VecT<T>& props) const {
   const T rho = props[2], w = props[3], h = props[4];
-  const T mA = rho * w * h, mY = rho * w * w * w * h / 12.0, mZ = rho * w * h * h * h / 12.0;  // [kg/m], [kg m]
+  // [kg/m], [kg m]; a given rotary inertia enters as an active zero plus the constant
+  const double a = sec_->areaScale;
+  const T mA = rho * w * h * a;
+  const T mY = sec_->rotaryZ >= 0.0 ? T(rho * 0.0 + sec_->rotaryZ) : T(rho * w * w * w * h * (a / 12.0));
+  const T mZ = sec_->rotaryY >= 0.0 ? T(rho * 0.0 + sec_->rotaryY) : T(rho * w * h * h * h * (a / 12.0));
   MatT<T> M = MatT<T>::Zero(kN, kN);
   for (int i = 0; i < 8; ++i)
     for (int j = 0; j < 8; ++j) {
@@ -235,11 +243,11 @@ VecT<T> AncfBeam3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&
   const T E = props[0], G = E / (2.0 * (1.0 + props[1])), w = props[3], h = props[4];
   VecT<T> Q = VecT<T>::Zero(kN);
   if (s.gravity) {  // M u, u = (g, 0, 0, 0, g, 0, 0, 0): only M_N reaches the positions
-    const T mA = props[2] * w * h;  // [kg/m]
+    const T mA = props[2] * w * h * sec_->areaScale;  // [kg/m]
     for (int i = 0; i < 8; ++i)
       for (int c = 0; c < 3; ++c) Q[3 * i + c] = mA * ((mN_(i, 0) + mN_(i, 4)) * (*s.gravity)[c]);
   }
-  const T V = L_ * w * h;  // [m^3]
+  const T V = L_ * w * h * sec_->areaScale;  // [m^3]
   auto e = [&](int i) -> V3T { return x.template segment<3>(3 * i); };
   for (const Point& P : pts_) {
     // S(i, u) = S0 + w Sy + h Sz: AD constants meet active scalars only through double operations.
@@ -294,7 +302,7 @@ void AncfBeam3D::elastic(const LocalState& s, double E, double G, double w, doub
   Eigen::Matrix<double, kN, kN> Kl;
   if (K) Kl.setZero();
   if (dQg) dQg->setZero(kN);
-  const double V = L_ * w * h;
+  const double V = L_ * w * h * sec_->areaScale;
   for (const Point& P : pts_) {
     Mat83 S, dS;
     slopes(P, w, h, dw, dh, S, dS);
@@ -344,7 +352,7 @@ double AncfBeam3D::elasticEnergy(const LocalState& s, double E, double G, double
     for (int k = 0; k < 6; ++k) {
       if (!P.has(k)) continue;
       const double eps = kHalf[k] * (F.col(kU[k]).dot(F.col(kV[k])) - C0(kU[k], kV[k]));
-      U += 0.5 * (k < 3 ? E : G) * L_ * w * h * P.w * P.detJ0 * eps * eps;
+      U += 0.5 * (k < 3 ? E : G) * L_ * w * h * sec_->areaScale * P.w * P.detJ0 * eps * eps;
     }
   }
   return U;
@@ -395,7 +403,12 @@ bool AncfBeam3D::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX&
   dM = MatX::Zero(kN, kN);
   if (bE) dQ += QN + QS / (2.0 * (1.0 + nu));
   if (bNu) dQ -= (E / (2.0 * (1.0 + nu) * (1.0 + nu))) * QS;
-  if (bRho) dM += massMatrix(1.0, w, h);
+  if (bRho) {  // a given rotary inertia does not move with the density
+    VecX unit(5);
+    unit << 0.0, 0.0, 1.0, w, h;
+    dM += massT<double>(LocalState(), unit);
+    if (sec_->rotaryZ >= 0.0 || sec_->rotaryY >= 0.0) dM -= massT<double>(LocalState(), VecX(VecX::Zero(5)));
+  }
   if (dw != 0.0 || dh != 0.0) {
     dQ += dQg;
     // d(rho (A M_N + w^3 h / 12 M_Y + w h^3 / 12 M_Z)) along (dw, dh)

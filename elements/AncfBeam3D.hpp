@@ -66,7 +66,8 @@
 
 namespace flexsens {
 
-/// Material and rectangular section of an ancf_beam; every entry bindable as a parameter.
+/// Material and section of an ancf_beam: a rectangle (every entry bindable as a parameter) or a
+/// general section (area, Iy, Iz, J; E, nu, density bindable).
 struct AncfBeamSection {
   Quantity E;        ///< Young's modulus [Pa]
   Quantity nu;       ///< Poisson's ratio [-] (enters only G = E / (2 (1 + nu)))
@@ -75,6 +76,20 @@ struct AncfBeamSection {
   Quantity height;   ///< along the nodes' r_z [m]
   Quantity side;     ///< square section: width = height = side [m]
   bool square = false;
+  /// A general section (area, Iy, Iz given): width and height are those of a rectangle with the
+  /// radii of gyration of Iy = int z^2 dA, Iz = int y^2 dA (w = sqrt(12 Iz / A), h = sqrt(12 Iy / A)),
+  /// weighed by areaScale; only E, nu and density are bindable then.
+  bool general = false;
+  /// A / (w h) of a general section: its rectangle's w, h place the quadrature points, this
+  /// factor on every volume and mass makes the area A (1 for a rectangle).
+  double areaScale = 1.0;
+  /// sqrt(J / (Iy + Iz)): the shear strains are taken at section points this much closer to
+  /// the axis, which scales the torsional stiffness G (Iy + Iz) to G J and leaves the
+  /// uniform (transverse) shear G A as it is (1 without a given J).
+  double torsionScale = 1.0;
+  /// Rotary inertia per length rho int z^2 dA, rho int y^2 dA [kg m] when given; negative:
+  /// density times the section's.
+  double rotaryY = -1.0, rotaryZ = -1.0;
   const Quantity& widthSource() const { return square ? side : width; }
   const Quantity& heightSource() const { return square ? side : height; }
   /// "E", "nu", "density", then "side" or "width", "height".

@@ -10,6 +10,7 @@
 // starts, curved or twisted; `rest_shape: straight` makes each element's rest shape straight,
 // of its initial chord length, with orthonormal gradients (the chain then starts deformed on
 // purpose). A ground node is pinned (gradients free) unless it is `clamped` (every gradient fixed).
+#include <cmath>
 #include <sstream>
 
 #include "elements/AncfBeam3D.hpp"
@@ -20,7 +21,54 @@ namespace flexsens {
 
 namespace {
 
-/// E, nu, density and section {side} or {width, height}; every entry bindable.
+/// A general section from its area A, Iy = int z^2 dA, Iz = int y^2 dA [m^2, m^4] and torsion
+/// constant J [m^4]: a rectangle with the radii of gyration sqrt(Iy / A), sqrt(Iz / A) and the
+/// area A (areaScale) carries the axial, bending and shear strains, its shear points moved to
+/// scale G (Iy + Iz) to G J.
+void setGeneralSection(AncfBeamSection& sec, double A, double Iy, double Iz, double J) {
+  sec.general = true;
+  sec.width = {std::sqrt(12.0 * Iz / A), -1};
+  sec.height = {std::sqrt(12.0 * Iy / A), -1};
+  sec.areaScale = A / (sec.width.constant * sec.height.constant);
+  sec.torsionScale = std::sqrt(J / (Iy + Iz));
+}
+
+/// section {area, Iy, Iz, J}, {diameter} (a circle) or {diameter, inner_diameter} (a tube).
+void readGeneralSection(const YamlReader& r, const YAML::Node& s, const std::string& sp, AncfBeamSection& sec) {
+  if (s["diameter"]) {
+    for (const char* k : {"area", "Iy", "Iz", "J"})
+      if (s[k]) r.fail(s[k], sp + "." + k, "give either diameter (a circle or tube) or area, Iy, Iz, J, not both");
+    const double d = r.positive(s["diameter"], sp + ".diameter");
+    const double di = s["inner_diameter"] ? r.positive(s["inner_diameter"], sp + ".inner_diameter") : 0.0;
+    if (!(di < d)) r.fail(s["inner_diameter"], sp + ".inner_diameter", "expected less than the diameter");
+    const double A = M_PI / 4 * (d * d - di * di), I = M_PI / 64 * (std::pow(d, 4) - std::pow(di, 4));
+    setGeneralSection(sec, A, I, I, 2 * I);  // round: J is the polar moment
+    return;
+  }
+  const double A = r.positive(r.require(s, "area", sp), sp + ".area");
+  const double Iy = r.positive(r.require(s, "Iy", sp), sp + ".Iy"), Iz = r.positive(r.require(s, "Iz", sp), sp + ".Iz");
+  const double J = s["J"] ? r.positive(s["J"], sp + ".J") : Iy + Iz;
+  if (J > Iy + Iz)
+    r.fail(s["J"], sp + ".J", "expected at most Iy + Iz = " + std::to_string(Iy + Iz) +
+                                  " (a section's torsion constant does not exceed its polar moment)");
+  setGeneralSection(sec, A, Iy, Iz, J);
+}
+
+/// rotary_inertia [rho Iy, rho Iz] [kg m] of a general section: given rotary inertia per length.
+void readRotaryInertia(const YamlReader& r, const YAML::Node& el, const std::string& path, AncfBeamSection& sec) {
+  const YAML::Node n = el["rotary_inertia"];
+  if (!n) return;
+  if (!sec.general)
+    r.fail(n, path + ".rotary_inertia", "belongs to a general section (area, Iy, Iz or diameter): a rectangle's "
+                                        "rotary inertia follows from density, width and height");
+  const VecX v = r.vector(n, path + ".rotary_inertia", 2);
+  if (!(v[0] > 0 && v[1] > 0)) r.fail(n, path + ".rotary_inertia", "expected two positive values [rho Iy, rho Iz] in kg m");
+  sec.rotaryY = v[0];
+  sec.rotaryZ = v[1];
+}
+
+/// E, nu, density and section {side}, {width, height} (every entry bindable) or a general
+/// section (E, nu, density bindable).
 std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::Node& el, const std::string& path) {
   auto sec = std::make_shared<AncfBeamSection>();
   sec->E = {r.physical(r.require(el, "E", path), path + ".E", kModulusRange), -1};
@@ -31,8 +79,12 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
   const std::string sp = path + ".section";
   const YAML::Node s = r.require(el, "section", path);
   r.requireMap(s, sp);
-  r.allowKeys(s, sp, {"side", "width", "height"});
-  if (s["side"]) {
+  r.allowKeys(s, sp, {"side", "width", "height", "area", "Iy", "Iz", "J", "diameter", "inner_diameter"});
+  const bool rectangle = s["side"] || s["width"] || s["height"];
+  if (rectangle && (s["area"] || s["Iy"] || s["Iz"] || s["J"] || s["diameter"]))
+    r.fail(s, sp, "give one kind of section: side, width and height, area with Iy, Iz (and J), or diameter");
+  if (!rectangle) readGeneralSection(r, s, sp, *sec);
+  else if (s["side"]) {
     if (s["width"] || s["height"]) r.fail(s, sp, "give either side (square section) or width and height, not both");
     sec->square = true;
     sec->side = {r.positive(s["side"], sp + ".side"), -1};
@@ -40,6 +92,7 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
     sec->width = {r.positive(r.require(s, "width", sp), sp + ".width"), -1};
     sec->height = {r.positive(r.require(s, "height", sp), sp + ".height"), -1};
   }
+  readRotaryInertia(r, el, path, *sec);
   return sec;
 }
 
@@ -87,7 +140,7 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
   Model& m = ctx.m;
   ctx.requireSpatial(el, path, "ancf_beam");
   r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "nu", "density", "section", "y_axis",
-                         "rest_shape"});
+                         "rest_shape", "rotary_inertia"});
   const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
   auto nodeKey = [&](size_t j) { return el["nodes"] ? el["nodes"][j] : el["curve"]; };
   auto nodePath = [&](size_t j) { return el["nodes"] ? at(path + ".nodes", j) : path + ".curve"; };
