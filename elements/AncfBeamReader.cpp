@@ -1,9 +1,10 @@
 // Scene reader of ancf_beam (elements/AncfBeam3D.hpp, 3D only): a node chain (listed or
 // meshed from a Gmsh curve) becomes fully parameterized ANCF beam elements sharing one
 // material and section; each node of the chain carries the gradients r_x, r_y, r_z. A node's
-// gradients are the scene's `gradients` or else a frame from the chain: r_x its tangent (the
-// bisector of the two chords at an inner node, the first / last chord reflected about the
-// neighbour's tangent at an end: exact on a uniformly divided circular arc), r_y the element's
+// gradients are the scene's `gradients` or else a frame from the chain: r_x its tangent (a Gmsh
+// curve's own; for listed nodes the bisector of the two chords at an inner node, the first /
+// last chord reflected about the neighbour's tangent at an end: exact on a uniformly divided
+// circular arc), r_y the element's
 // `y_axis` made normal to r_x (default: the global axis least aligned with the first tangent,
 // carried along the chain by projection, so the section does not turn about a curved axis),
 // r_z = r_x x r_y. The rest shape (`rest_shape: initial`, the default) is the chain as it
@@ -141,7 +142,8 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
   ctx.requireSpatial(el, path, "ancf_beam");
   r.allowKeys(el, path, {"name", "type", "nodes", "curve", "segments", "E", "nu", "density", "section", "y_axis",
                          "rest_shape", "rotary_inertia"});
-  const auto ids = el["curve"] ? ctx.curveNodes(el, path) : ctx.nodeList(el, path, 2, 100000);
+  std::vector<Eigen::Vector3d> curveTangents;  // a Gmsh curve's own, else fitted to the chain below
+  const auto ids = el["curve"] ? ctx.curveNodes(el, path, &curveTangents) : ctx.nodeList(el, path, 2, 100000);
   auto nodeKey = [&](size_t j) { return el["nodes"] ? el["nodes"][j] : el["curve"]; };
   auto nodePath = [&](size_t j) { return el["nodes"] ? at(path + ".nodes", j) : path + ".curve"; };
   std::vector<Eigen::Vector3d> dir(ids.size() - 1);  // unit chord directions
@@ -156,7 +158,7 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
     yAxis = r.vector(el["y_axis"], path + ".y_axis", 3);
     if (!(yAxis.norm() > 0)) r.fail(el["y_axis"], path + ".y_axis", "expected a nonzero direction");
   }
-  const std::vector<Eigen::Vector3d> tangent = chainTangents(dir);
+  const std::vector<Eigen::Vector3d> tangent = curveTangents.empty() ? chainTangents(dir) : curveTangents;
   Eigen::Vector3d carried = Eigen::Vector3d::Zero();  // the previous node's r_y (default frames)
   for (size_t j = 0; j < ids.size(); ++j) {
     Node& nd = m.nodes[ids[j]];

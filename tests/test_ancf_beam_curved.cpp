@@ -222,3 +222,51 @@ TEST(AncfBeamCurved, StaticSensitivitiesMatchCentralDifferences) {
     EXPECT_LT(err, 1e-6) << m.parameters[k].name;
   }
 }
+
+// examples/frames/bathe_bolourchi.yaml: the arc meshed by Gmsh from bend.geo; its nodes take
+// the circle's own tangents (to Gmsh's derivative, ~1e-8), and the tip lands within 1% of the
+// published displacement.
+TEST(AncfBeamCurved, GmshArcTakesTheCirclesTangents) {
+  const Scene sc = readScene(test::sourceDir() + "/examples/frames/bathe_bolourchi.yaml");
+  const Model& m = *sc.model;
+  int checked = 0;
+  for (const Node& nd : m.nodes) {
+    if (nd.slope.size() != 9) continue;
+    const double th = std::atan2(nd.position[0], 100.0 - nd.position[1]);  // angle about the centre (0, 100)
+    EXPECT_LT((nd.slope.head<3>() - Eigen::Vector3d(std::cos(th), std::sin(th), 0)).norm(), 1e-7) << nd.name;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 9);
+  Assembler as(m);
+  StaticSettings set;
+  set.steps = 20;
+  const VecX q = solveStatic(as, VecX::Zero(0), m.initialPositions(), set);
+  const int tip = m.nodeIndex("tip");
+  const Eigen::Vector3d x(q[m.dof(tip, 0)], q[m.dof(tip, 1)], q[m.dof(tip, 2)]), published(47.23, 15.79, 53.37);
+  const Eigen::Vector3d start(100 * std::sin(M_PI / 4), 100 * (1 - std::cos(M_PI / 4)), 0);
+  EXPECT_LT((x - published).norm() / (published - start).norm(), 0.01);
+}
+
+// A quarter ellipse x = 2 cos t, y = sin t from Gmsh: every node's r_x is the ellipse's unit
+// tangent (-2 sin t, cos t) / |.| (~1e-8), where tangents fitted to the chords would be off by
+// ~1e-2 at the ends (checked: the reflected end chord's error printed).
+TEST(AncfBeamCurved, GmshCurveTangentsOnAnEllipse) {
+  const Scene sc = readScene(test::sourceDir() + "/tests/scenes/gmsh/ellipse_beam.yaml");
+  const Model& m = *sc.model;
+  int checked = 0;
+  for (const Node& nd : m.nodes) {
+    if (nd.slope.size() != 9) continue;
+    const double t = std::atan2(nd.position[1], nd.position[0] / 2.0);
+    const Eigen::Vector3d exact = Eigen::Vector3d(-2 * std::sin(t), std::cos(t), 0).normalized();
+    EXPECT_LT((nd.slope.head<3>() - exact).norm(), 1e-7) << nd.name;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 7);
+  // the fitted end tangent (the first chord reflected about the bisector at node 1)
+  const Eigen::Vector3d x0 = m.nodes[m.nodeIndex("start")].position, x1 = m.nodes[m.nodeIndex("quarter.1")].position;
+  const Eigen::Vector3d x2 = m.nodes[m.nodeIndex("quarter.2")].position;
+  const Eigen::Vector3d d0 = (x1 - x0).normalized(), t1 = (d0 + (x2 - x1).normalized()).normalized();
+  const Eigen::Vector3d fitted = 2.0 * t1.dot(d0) * d0 - t1;
+  std::printf("ellipse start: fitted tangent off by %.2e\n", (fitted - Eigen::Vector3d(0, 1, 0)).norm());
+  EXPECT_GT((fitted - Eigen::Vector3d(0, 1, 0)).norm(), 1e-3);
+}
