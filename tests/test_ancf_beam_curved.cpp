@@ -247,8 +247,8 @@ TEST(AncfBeamCurved, GmshArcTakesTheCirclesTangents) {
   EXPECT_LT((x - published).norm() / (published - start).norm(), 0.01);
 }
 
-// A quarter ellipse x = 2 cos t, y = sin t from Gmsh: every node's r_x is the ellipse's unit
-// tangent (-2 sin t, cos t) / |.| (~1e-8), where tangents fitted to the chords would be off by
+// A quarter ellipse x = 20 cos t, y = 10 sin t from Gmsh: every node's r_x is the ellipse's
+// unit tangent (-2 sin t, cos t) / |.| (~1e-8), where tangents fitted to the chords would be off by
 // ~1e-2 at the ends (checked: the reflected end chord's error printed).
 TEST(AncfBeamCurved, GmshCurveTangentsOnAnEllipse) {
   const Scene sc = readScene(test::sourceDir() + "/tests/scenes/gmsh/ellipse_beam.yaml");
@@ -256,7 +256,7 @@ TEST(AncfBeamCurved, GmshCurveTangentsOnAnEllipse) {
   int checked = 0;
   for (const Node& nd : m.nodes) {
     if (nd.slope.size() != 9) continue;
-    const double t = std::atan2(nd.position[1], nd.position[0] / 2.0);
+    const double t = std::atan2(nd.position[1] / 10.0, nd.position[0] / 20.0);
     const Eigen::Vector3d exact = Eigen::Vector3d(-2 * std::sin(t), std::cos(t), 0).normalized();
     EXPECT_LT((nd.slope.head<3>() - exact).norm(), 1e-7) << nd.name;
     ++checked;
