@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <sstream>
 
 #include "elements/KernelElementAD.hpp"
 #include "elements/SimplexShape.hpp"
@@ -10,6 +11,7 @@ namespace flexsens {
 
 std::vector<std::pair<std::string, Quantity*>> AncfBeamSection::properties() {
   std::vector<std::pair<std::string, Quantity*>> r = {{"E", &E}, {"nu", &nu}, {"density", &density}};
+  if (general) return r;
   if (square) r.push_back({"side", &side});
   else {
     r.push_back({"width", &width});
@@ -46,54 +48,83 @@ Vec8 axialSlope(double xi, double L) {
   return a;
 }
 
-/// d S_i / dx, dy, dz (a, b, c) at the point (xi, eta, zeta) of an element of length L and
-/// section w x h [m]: the section terms of a and the linear-in-xi b, c on the gradient slots.
-void pointSlopes(double xi, double eta, double zeta, double L, double w, double h, Vec8& a, Vec8& b, Vec8& c) {
-  a = axialSlope(xi, L);
-  a[2] = -w * eta / L;
-  a[3] = -h * zeta / L;
-  a[6] = -a[2];
-  a[7] = -a[3];
-  b.setZero();
-  c.setZero();
-  b[2] = c[3] = 1.0 - xi;
-  b[6] = c[7] = xi;
+using Mat83 = Eigen::Matrix<double, 8, 3>;
+
+/// The Voigt strains (E_xx, E_yy, E_zz, 2 E_xy, 2 E_xz, 2 E_yz) pair the columns u, v of J B.
+constexpr int kU[6] = {0, 1, 2, 0, 0, 1}, kV[6] = {0, 1, 2, 1, 2, 2};
+/// Strain per dot product of the columns: 1/2 on the normal strains, 1 on the shear strains.
+constexpr double kHalf[6] = {0.5, 0.5, 0.5, 1.0, 1.0, 1.0};
+
+/// dS_i/dX of the eight slots at the point (xi, eta, zeta) split as S0 + w Sy + h Sz: the
+/// axial slopes and the section factors (1 - xi, xi) of r_y, r_z in S0, the x-slopes of the
+/// section terms y r_y, z r_z (y = w eta, z = h zeta) in Sy, Sz.
+void parameterSlopes(double xi, double eta, double zeta, double L, Mat83& S0, Mat83& Sy, Mat83& Sz) {
+  S0.setZero();
+  Sy.setZero();
+  Sz.setZero();
+  S0.col(0) = axialSlope(xi, L);
+  S0(2, 1) = S0(3, 2) = 1.0 - xi;
+  S0(6, 1) = S0(7, 2) = xi;
+  Sy(2, 0) = -eta / L;
+  Sy(6, 0) = eta / L;
+  Sz(3, 0) = -zeta / L;
+  Sz(7, 0) = zeta / L;
 }
 
-/// Voigt strains (E_xx, E_yy, E_zz, 2 E_xy, 2 E_xz, 2 E_yz) of the columns Fx, Fy, Fz of J.
-template <class V, class S>
-void strains(const V& Fx, const V& Fy, const V& Fz, S eps[6]) {
-  eps[0] = 0.5 * (Fx.squaredNorm() - 1.0);
-  eps[1] = 0.5 * (Fy.squaredNorm() - 1.0);
-  eps[2] = 0.5 * (Fz.squaredNorm() - 1.0);
-  eps[3] = Fx.dot(Fy);
-  eps[4] = Fx.dot(Fz);
-  eps[5] = Fy.dot(Fz);
+/// Adds a point's stiffness for one strain: -(kBB Bk^T Bk + kH H (x) I_3), with the strain's
+/// Hessian H = p1 p1^T (normal) or p1 p2^T + p2 p1^T (shear), constant in e.
+void addPointStiffness(Eigen::Matrix<double, kN, kN>& K, const Eigen::Matrix<double, 1, kN>& Bk, const Vec8& p1,
+                       const Vec8& p2, bool normal, double kBB, double kH) {
+  K.noalias() -= kBB * Bk.transpose() * Bk;
+  const Eigen::Matrix<double, 8, 8> H = normal ? Eigen::Matrix<double, 8, 8>(p1 * p1.transpose())
+                                               : Eigen::Matrix<double, 8, 8>(p1 * p2.transpose() + p2 * p1.transpose());
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      if (H(i, j) != 0.0) K.template block<3, 3>(3 * i, 3 * j).diagonal().array() -= kH * H(i, j);
 }
 
 }  // namespace
 
 AncfBeam3D::AncfBeam3D(std::string name, std::vector<int> nodes, std::shared_ptr<AncfBeamSection> section,
-                       double L, int normalPoints, int shearPoints)
-    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)), L_(L) {
+                       double L, int normalPoints, int shearPoints, const VecX* rest)
+    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)), L_(L), curved_(rest != nullptr) {
   const std::string who = "ancf_beam " + this->name();
   if (this->nodes().size() != 2) throw std::invalid_argument(who + ": needs 2 nodes");
   if (!sec_) throw std::invalid_argument(who + ": no section");
   if (!(L_ > 0.0)) throw std::invalid_argument(who + ": zero length (its nodes coincide)");
   if (normalPoints < 1 || shearPoints < 1) throw std::invalid_argument(who + ": needs at least one Gauss point");
-  // 2 x 2 Gauss across the section: eta, zeta = +-1/(2 sqrt 3) on [-1/2, 1/2], weight 1/4 each.
+  if (rest) {
+    if (rest->size() != kN) throw std::invalid_argument(who + ": rest coordinates need 24 entries");
+    rest_ = Eigen::Map<const Eigen::Matrix<double, 3, 8>>(rest->data());
+  }
+  // Axial and transverse shear strains (E_xx; E_xy, E_xz): Gauss along the axis, 2 x 2 Gauss
+  // across the section (eta, zeta = +-1/(2 sqrt 3) on [-1/2, 1/2], weight 1/4 each); one set of
+  // points when both rules agree (the default).
   const double c = 0.5 / std::sqrt(3.0);
-  // One set of points for both strain groups when they share the rule (the default).
-  using Group = std::array<int, 3>;  // points, k0, k1
-  const std::vector<Group> groups = normalPoints == shearPoints ? std::vector<Group>{{normalPoints, 0, 6}}
-                                                                : std::vector<Group>{{normalPoints, 0, 3}, {shearPoints, 3, 6}};
+  struct Group {
+    int points, strains;  // Gauss points along the axis, the strains' bits (1 << k)
+    double reach;         // section points at reach x (eta, zeta): the torsion scale for the shear
+  };
+  const int axial = 1 << 0, shear = (1 << 3) | (1 << 4);
+  const double s = sec_->torsionScale;
+  const std::vector<Group> groups = normalPoints == shearPoints && s == 1.0
+                                        ? std::vector<Group>{{normalPoints, axial | shear, 1.0}}
+                                        : std::vector<Group>{{normalPoints, axial, 1.0}, {shearPoints, shear, s}};
   for (const Group& gr : groups) {
     std::vector<double> xs, ws;
-    gaussLegendre01(gr[0], xs, ws);
-    for (int g = 0; g < gr[0]; ++g)
+    gaussLegendre01(gr.points, xs, ws);
+    for (int g = 0; g < gr.points; ++g)
       for (double eta : {-c, c})
-        for (double zeta : {-c, c}) pts_.push_back({xs[g], eta, zeta, 0.25 * ws[g], gr[1], gr[2]});
+        for (double zeta : {-c, c}) addPoint({xs[g], gr.reach * eta, gr.reach * zeta, 0.25 * ws[g], gr.strains});
   }
+  // The section's own strains (E_yy, E_zz, E_yz) at the two nodes on the axis (trapezoidal rule),
+  // where r_y, r_z are the nodal gradients themselves: between the nodes their linear
+  // interpolation shortens and shears a section that turns by dphi by O(dphi^2), which at
+  // Gauss points inside would stiffen bending by large rotations and curved elements (the
+  // Bathe-Bolourchi bend: 9.7% stiff in 8 elements, bench/beams). With B = I they are constant
+  // across the section, so one point on the axis integrates them.
+  const int sectionStrains = (1 << 1) | (1 << 2) | (1 << 5);
+  for (double xi : {0.0, 1.0}) addPoint({xi, 0.0, 0.0, 0.5, sectionStrains});
   // Shape integrals (degree 6 in xi: 4 Gauss points are exact).
   std::vector<double> xs, ws;
   gaussLegendre01(4, xs, ws);
@@ -101,6 +132,9 @@ AncfBeam3D::AncfBeam3D(std::string name, std::vector<int> nodes, std::shared_ptr
   mY_.setZero();
   mZ_.setZero();
   for (int g = 0; g < 4; ++g) {
+    Point axis{xs[g], 0.0, 0.0, 1.0, 0};
+    setRestFrame(axis);
+    const double wL = ws[g] * L_ * axis.detJ0;  // rest length of the Gauss interval [m]
     const Vec8 f = axialShape(xs[g], L_);
     Vec8 sec = Vec8::Zero();  // the section factor of r_y (slots 2, 6) or r_z (slots 3, 7)
     sec[2] = sec[3] = 1.0 - xs[g];
@@ -110,10 +144,72 @@ AncfBeam3D::AncfBeam3D(std::string name, std::vector<int> nodes, std::shared_ptr
     y[6] = sec[6];
     z[3] = sec[3];
     z[7] = sec[7];
-    mN_ += (ws[g] * L_) * f * f.transpose();
-    mY_ += (ws[g] * L_) * y * y.transpose();
-    mZ_ += (ws[g] * L_) * z * z.transpose();
+    mN_ += wL * f * f.transpose();
+    mY_ += wL * y * y.transpose();
+    mZ_ += wL * z * z.transpose();
   }
+}
+
+void AncfBeam3D::addPoint(Point P) {
+  setRestFrame(P);
+  pts_.push_back(P);
+}
+
+void AncfBeam3D::setRestFrame(Point& P) const {
+  Mat83 S0, Sy, Sz;
+  parameterSlopes(P.xi, P.eta, P.zeta, L_, S0, Sy, Sz);
+  Eigen::Matrix3d B = Eigen::Matrix3d::Identity();
+  if (curved_) {
+    const Eigen::Matrix3d J0 = rest_ * S0;  // at the axis: the y, z terms vanish
+    P.detJ0 = J0.determinant();
+    if (!(P.detJ0 > 1e-12 * std::pow(J0.norm(), 3))) {
+      std::ostringstream os;
+      os << "ancf_beam " << name() << ": its rest shape folds over at xi = " << P.xi << " (det dr0/dX = " << P.detJ0
+         << "): the rest axis turns back or the gradients (r_x, r_y, r_z) are not a right-handed frame there";
+      throw std::invalid_argument(os.str());
+    }
+    Eigen::Matrix3d R0;  // the beam's axes: J0's columns made orthonormal, r_x first
+    R0.col(0) = J0.col(0).normalized();
+    R0.col(1) = (J0.col(1) - J0.col(1).dot(R0.col(0)) * R0.col(0)).normalized();
+    R0.col(2) = R0.col(0).cross(R0.col(1));
+    B = J0.inverse() * R0;
+  }
+  P.S0 = S0 * B;
+  P.Sy = Sy * B;
+  P.Sz = Sz * B;
+}
+
+void AncfBeam3D::slopes(const Point& P, double w, double h, double dw, double dh, Mat83& S, Mat83& dS) {
+  S = P.S0 + w * P.Sy + h * P.Sz;
+  dS = dw * P.Sy + dh * P.Sz;
+}
+
+void AncfBeam3D::restMetric(const Mat83& S, const Mat83& dS, Eigen::Matrix3d& C0, Eigen::Matrix3d& dC0) const {
+  if (!curved_) {
+    C0.setIdentity();
+    dC0.setZero();
+    return;
+  }
+  const Eigen::Matrix3d F0 = rest_ * S, dF0 = rest_ * dS;
+  C0 = F0.transpose() * F0;
+  dC0 = dF0.transpose() * F0 + F0.transpose() * dF0;
+}
+
+double AncfBeam3D::restLength(const VecX& rest) {
+  const Eigen::Map<const Eigen::Matrix<double, 3, 8>> X(rest.data());
+  std::vector<double> xs, ws;
+  gaussLegendre01(8, xs, ws);
+  double L = (X.col(4) - X.col(0)).norm();
+  // Fixed point L = arc length of the axis drawn with end tangents L r_x (contracts fast: the
+  // arc length moves with the tangents' length only at second order for a smooth arc).
+  for (int it = 0; it < 100; ++it) {
+    double arc = 0.0;
+    for (size_t g = 0; g < xs.size(); ++g) arc += ws[g] * L * (X * axialSlope(xs[g], L)).norm();
+    const bool done = std::abs(arc - L) <= 1e-15 * L;
+    L = arc;
+    if (done) break;
+  }
+  return L;
 }
 
 void AncfBeam3D::checkState(const LocalState& s) const {
@@ -126,7 +222,11 @@ void AncfBeam3D::checkState(const LocalState& s) const {
 template <class T>
 MatT<T> AncfBeam3D::massT(const LocalState&, const VecT<T>& props) const {
   const T rho = props[2], w = props[3], h = props[4];
-  const T mA = rho * w * h, mY = rho * w * w * w * h / 12.0, mZ = rho * w * h * h * h / 12.0;  // [kg/m], [kg m]
+  // [kg/m], [kg m]; a given rotary inertia enters as an active zero plus the constant
+  const double a = sec_->areaScale;
+  const T mA = rho * w * h * a;
+  const T mY = sec_->rotaryZ >= 0.0 ? T(rho * 0.0 + sec_->rotaryZ) : T(rho * w * w * w * h * (a / 12.0));
+  const T mZ = sec_->rotaryY >= 0.0 ? T(rho * 0.0 + sec_->rotaryY) : T(rho * w * h * h * h * (a / 12.0));
   MatT<T> M = MatT<T>::Zero(kN, kN);
   for (int i = 0; i < 8; ++i)
     for (int j = 0; j < 8; ++j) {
@@ -143,37 +243,47 @@ VecT<T> AncfBeam3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&
   const T E = props[0], G = E / (2.0 * (1.0 + props[1])), w = props[3], h = props[4];
   VecT<T> Q = VecT<T>::Zero(kN);
   if (s.gravity) {  // M u, u = (g, 0, 0, 0, g, 0, 0, 0): only M_N reaches the positions
-    const T mA = props[2] * w * h;  // [kg/m]
+    const T mA = props[2] * w * h * sec_->areaScale;  // [kg/m]
     for (int i = 0; i < 8; ++i)
       for (int c = 0; c < 3; ++c) Q[3 * i + c] = mA * ((mN_(i, 0) + mN_(i, 4)) * (*s.gravity)[c]);
   }
-  const T V = L_ * w * h;  // [m^3]
+  const T V = L_ * w * h * sec_->areaScale;  // [m^3]
+  auto e = [&](int i) -> V3T { return x.template segment<3>(3 * i); };
   for (const Point& P : pts_) {
-    // d S_i / dx: a double on the axial slots, a T (it moves with w, h) on the section slots
-    // 2, 3, 6, 7; AD constants meet active scalars only through double operations.
-    const Vec8 a0 = axialSlope(P.xi, L_);
-    const T yL = w * (P.eta / L_), zL = h * (P.zeta / L_);
-    auto aSec = [&](int i) -> T { return i == 2 ? T(-yL) : i == 3 ? T(-zL) : i == 6 ? yL : zL; };
-    Vec8 b = Vec8::Zero(), c = Vec8::Zero();
-    b[2] = c[3] = 1.0 - P.xi;
-    b[6] = c[7] = P.xi;
-    auto e = [&](int i) -> V3T { return x.template segment<3>(3 * i); };
-    V3T Fx = yL * (e(6) - e(2)) + zL * (e(7) - e(3)), Fy = b[2] * e(2) + b[6] * e(6), Fz = c[3] * e(3) + c[7] * e(7);
-    for (int i : {0, 1, 4, 5}) Fx += a0[i] * e(i);
+    // S(i, u) = S0 + w Sy + h Sz: AD constants meet active scalars only through double operations.
+    T S[8][3];
+    for (int i = 0; i < 8; ++i)
+      for (int u = 0; u < 3; ++u) S[i][u] = w * P.Sy(i, u) + h * P.Sz(i, u) + P.S0(i, u);
+    V3T F[3];  // the columns of J B
+    for (int u = 0; u < 3; ++u) {
+      F[u] = S[0][u] * e(0);
+      for (int i = 1; i < 8; ++i) F[u] += S[i][u] * e(i);
+    }
     T eps[6];
-    strains(Fx, Fy, Fz, eps);
-    const T W = V * P.w;
-    // dU/de_i / W = sum_k sigma_k d eps_k / d e_i, sigma = E eps (normal) or G eps (shear)
-    auto grad = [&](const auto& ai, int i) -> V3T {
-      V3T g = V3T::Zero();
-      if (P.k0 == 0) g += E * ((eps[0] * ai) * Fx + (eps[1] * b[i]) * Fy + (eps[2] * c[i]) * Fz);
-      if (P.k1 == 6) g += G * (eps[3] * (ai * Fy + b[i] * Fx) + eps[4] * (ai * Fz + c[i] * Fx) + eps[5] * (b[i] * Fz + c[i] * Fy));
-      return g;
-    };
+    for (int k = 0; k < 6; ++k) eps[k] = kHalf[k] * F[kU[k]].dot(F[kV[k]]);
+    if (curved_) {  // minus the rest metric (J0 B)^T (J0 B)
+      V3T F0[3];
+      for (int u = 0; u < 3; ++u)
+        for (int c = 0; c < 3; ++c) {
+          F0[u][c] = rest_(c, 0) * S[0][u];
+          for (int i = 1; i < 8; ++i) F0[u][c] += rest_(c, i) * S[i][u];
+        }
+      for (int k = 0; k < 6; ++k) eps[k] -= kHalf[k] * F0[kU[k]].dot(F0[kV[k]]);
+    } else {
+      for (int k = 0; k < 3; ++k) eps[k] -= 0.5;
+    }
+    const T W = V * (P.w * P.detJ0);
+    // dU/de_i / W = sum_k sigma_k d eps_k / d e_i, sigma = E eps (normal) or G eps (shear),
+    // d eps_k / d e_i = S(i, u) F_v + S(i, v) F_u (half of it for u = v)
     for (int i = 0; i < 8; ++i) {
-      const bool sec = i == 2 || i == 3 || i == 6 || i == 7;
-      const V3T dU = sec ? grad(aSec(i), i) : grad(a0[i], i);
-      Q.template segment<3>(3 * i) -= W * dU;
+      V3T g = V3T::Zero();
+      for (int k = 0; k < 6; ++k) {
+        if (!P.has(k)) continue;
+        const int u = kU[k], v = kV[k];
+        const V3T d = k < 3 ? V3T(S[i][u] * F[u]) : V3T(S[i][u] * F[v] + S[i][v] * F[u]);
+        g += ((k < 3 ? E : G) * eps[k]) * d;
+      }
+      Q.template segment<3>(3 * i) -= W * g;
     }
   }
   return Q;
@@ -192,61 +302,37 @@ void AncfBeam3D::elastic(const LocalState& s, double E, double G, double w, doub
   Eigen::Matrix<double, kN, kN> Kl;
   if (K) Kl.setZero();
   if (dQg) dQg->setZero(kN);
-  const double V = L_ * w * h;
+  const double V = L_ * w * h * sec_->areaScale;
   for (const Point& P : pts_) {
-    Vec8 a, b, c, da = Vec8::Zero();
-    pointSlopes(P.xi, P.eta, P.zeta, L_, w, h, a, b, c);
-    da[2] = -dw * P.eta / L_;
-    da[3] = -dh * P.zeta / L_;
-    da[6] = -da[2];
-    da[7] = -da[3];
-    const V3 Fx = X * a, Fy = X * b, Fz = X * c;
-    double eps[6];
-    strains(Fx, Fy, Fz, eps);
-    const double W = V * P.w;
-    for (int k = P.k0; k < P.k1; ++k) {
+    Mat83 S, dS;
+    slopes(P, w, h, dw, dh, S, dS);
+    Eigen::Matrix3d C0, dC0;
+    restMetric(S, dS, C0, dC0);
+    const Eigen::Matrix3d F = X * S, dF = X * dS;  // the columns of J B and their change along (dw, dh)
+    const double W = V * P.w * P.detJ0;
+    for (int k = 0; k < 6; ++k) {
+      if (!P.has(k)) continue;
+      const int u = kU[k], v = kV[k];
       const double mod = k < 3 ? E : G;
+      const double eps = kHalf[k] * (F.col(u).dot(F.col(v)) - C0(u, v));
       VecX* Qk = k < 3 ? QN : QS;
-      Eigen::Matrix<double, 1, kN> B;
-      Vec8 p1, p2;  // d eps_k / d e_i = p1_i U + p2_i V
-      const V3 *U, *Vv;
-      switch (k) {
-        case 0: p1 = a; p2.setZero(); U = &Fx; Vv = &Fx; break;
-        case 1: p1 = b; p2.setZero(); U = &Fy; Vv = &Fy; break;
-        case 2: p1 = c; p2.setZero(); U = &Fz; Vv = &Fz; break;
-        case 3: p1 = a; p2 = b; U = &Fy; Vv = &Fx; break;
-        case 4: p1 = a; p2 = c; U = &Fz; Vv = &Fx; break;
-        default: p1 = b; p2 = c; U = &Fz; Vv = &Fy; break;
-      }
-      for (int i = 0; i < 8; ++i) B.template segment<3>(3 * i) = (p1[i] * *U + p2[i] * *Vv).transpose();
-      if (Qk) *Qk -= (W * eps[k]) * B.transpose();
-      if (K) {
-        Kl.noalias() -= (mod * W) * B.transpose() * B;
-        // H_k(i, j) = p1_i q1_j + ...: E_uu: p1 p1^T; shear: p1 p2^T + p2 p1^T
-        const Eigen::Matrix<double, 8, 8> H =
-            k < 3 ? Eigen::Matrix<double, 8, 8>(p1 * p1.transpose()) : Eigen::Matrix<double, 8, 8>(p1 * p2.transpose() + p2 * p1.transpose());
-        const double f = mod * W * eps[k];
-        for (int i = 0; i < 8; ++i)
-          for (int j = 0; j < 8; ++j)
-            if (H(i, j) != 0.0) Kl.template block<3, 3>(3 * i, 3 * j).diagonal().array() -= f * H(i, j);
-      }
+      // d eps_k / d e_i = p1_i U + p2_i Vv: S(i, u) F_u (normal), S(i, u) F_v + S(i, v) F_u (shear)
+      const Vec8 p1 = S.col(u), p2 = k < 3 ? Vec8(Vec8::Zero()) : Vec8(S.col(v));
+      const V3 U = k < 3 ? V3(F.col(u)) : V3(F.col(v)), Vv = F.col(u);
+      Eigen::Matrix<double, 1, kN> Bk;
+      for (int i = 0; i < 8; ++i) Bk.template segment<3>(3 * i) = (p1[i] * U + p2[i] * Vv).transpose();
+      if (Qk) *Qk -= (W * eps) * Bk.transpose();
+      if (K) addPointStiffness(Kl, Bk, p1, p2, k < 3, mod * W, mod * W * eps);
       if (dQg && (dw != 0.0 || dh != 0.0)) {
-        // Along (dw, dh): the weight W and the y, z terms of a change; only the strains with
-        // Fx (k = 0, 3, 4) move: d Fx = X da.
+        // Along (dw, dh): the weight W, the x-slopes of the section terms and the rest metric move.
         const double dW = W * (dw / w + dh / h);
-        const V3 dFx = X * da;
-        double deps = 0.0;
-        Eigen::Matrix<double, 1, kN> dB = Eigen::Matrix<double, 1, kN>::Zero();
-        if (k == 0) {
-          deps = Fx.dot(dFx);
-          for (int i = 0; i < 8; ++i) dB.template segment<3>(3 * i) = (da[i] * Fx + a[i] * dFx).transpose();
-        } else if (k == 3 || k == 4) {
-          const V3& Fo = k == 3 ? Fy : Fz;
-          const Vec8& po = k == 3 ? b : c;
-          deps = dFx.dot(Fo);
-          for (int i = 0; i < 8; ++i) dB.template segment<3>(3 * i) = (da[i] * Fo + po[i] * dFx).transpose();
-        }
-        *dQg -= mod * ((dW * eps[k] + W * deps) * B.transpose() + (W * eps[k]) * dB.transpose());
+        const double deps = kHalf[k] * (dF.col(u).dot(F.col(v)) + F.col(u).dot(dF.col(v)) - dC0(u, v));
+        const Vec8 dp1 = dS.col(u), dp2 = k < 3 ? Vec8(Vec8::Zero()) : Vec8(dS.col(v));
+        const V3 dU = k < 3 ? V3(dF.col(u)) : V3(dF.col(v)), dVv = dF.col(u);
+        Eigen::Matrix<double, 1, kN> dB;
+        for (int i = 0; i < 8; ++i)
+          dB.template segment<3>(3 * i) = (dp1[i] * U + p1[i] * dU + dp2[i] * Vv + p2[i] * dVv).transpose();
+        *dQg -= mod * ((dW * eps + W * deps) * Bk.transpose() + (W * eps) * dB.transpose());
       }
     }
   }
@@ -258,11 +344,16 @@ double AncfBeam3D::elasticEnergy(const LocalState& s, double E, double G, double
   const Eigen::Map<const Eigen::Matrix<double, 3, 8>> X(s.x.data());
   double U = 0.0;
   for (const Point& P : pts_) {
-    Vec8 a, b, c;
-    pointSlopes(P.xi, P.eta, P.zeta, L_, w, h, a, b, c);
-    double eps[6];
-    strains(V3(X * a), V3(X * b), V3(X * c), eps);
-    for (int k = P.k0; k < P.k1; ++k) U += 0.5 * (k < 3 ? E : G) * L_ * w * h * P.w * eps[k] * eps[k];
+    Mat83 S, dS;
+    slopes(P, w, h, 0.0, 0.0, S, dS);
+    Eigen::Matrix3d C0, dC0;
+    restMetric(S, dS, C0, dC0);
+    const Eigen::Matrix3d F = X * S;
+    for (int k = 0; k < 6; ++k) {
+      if (!P.has(k)) continue;
+      const double eps = kHalf[k] * (F.col(kU[k]).dot(F.col(kV[k])) - C0(kU[k], kV[k]));
+      U += 0.5 * (k < 3 ? E : G) * L_ * w * h * sec_->areaScale * P.w * P.detJ0 * eps * eps;
+    }
   }
   return U;
 }
@@ -312,7 +403,12 @@ bool AncfBeam3D::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX&
   dM = MatX::Zero(kN, kN);
   if (bE) dQ += QN + QS / (2.0 * (1.0 + nu));
   if (bNu) dQ -= (E / (2.0 * (1.0 + nu) * (1.0 + nu))) * QS;
-  if (bRho) dM += massMatrix(1.0, w, h);
+  if (bRho) {  // a given rotary inertia does not move with the density
+    VecX unit(5);
+    unit << 0.0, 0.0, 1.0, w, h;
+    dM += massT<double>(LocalState(), unit);
+    if (sec_->rotaryZ >= 0.0 || sec_->rotaryY >= 0.0) dM -= massT<double>(LocalState(), VecX(VecX::Zero(5)));
+  }
   if (dw != 0.0 || dh != 0.0) {
     dQ += dQg;
     // d(rho (A M_N + w^3 h / 12 M_Y + w h^3 / 12 M_Z)) along (dw, dh)

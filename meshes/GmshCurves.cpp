@@ -265,8 +265,10 @@ std::vector<Step> planChain(const CurveRequest& r, const std::vector<int>& curve
 
 /// Gmsh places transfinite nodes at equal arc lengths found by numerical integration (off by
 /// ~1e-9 relative). Where equal parameter steps are equal arc lengths (lines, circle arcs), the
-/// interior nodes (xyz, in chain order `order`) are re-evaluated at exactly uniform parameters.
-void placeUniformly(const Step& s, const std::vector<std::size_t>& order, std::vector<double>& xyz) {
+/// interior nodes (xyz, in chain order `order`) are re-evaluated at exactly uniform parameters,
+/// which replace their parameters u.
+void placeUniformly(const Step& s, const std::vector<std::size_t>& order, std::vector<double>& xyz,
+                    std::vector<double>& u) {
   double lo = 0.0, hi = 0.0;
   if (order.size() <= 2 || !constantSpeed(s.curve, lo, hi)) return;
   const std::size_t n = order.size() - 1;
@@ -277,8 +279,10 @@ void placeUniformly(const Step& s, const std::vector<std::size_t>& order, std::v
   // order is by increasing u: its k-th entry (k = 1..n-1) sits at uu[k - 1].
   std::vector<std::size_t> ascending(order);
   if (!s.forward) std::reverse(ascending.begin(), ascending.end());
-  for (std::size_t k = 1; k < n; ++k)
+  for (std::size_t k = 1; k < n; ++k) {
     for (int a = 0; a < 3; ++a) xyz[3 * ascending[k] + a] = exact[3 * (k - 1) + a];
+    u[ascending[k]] = uu[k - 1];
+  }
 }
 
 /// The mesh node on geometric point p (0: none).
@@ -315,10 +319,18 @@ NodeChain readChain(const CurveRequest& r, const std::vector<Step>& plan, const 
     if (tags[order.front()] != vertexNode(first) || tags[order.back()] != vertexNode(last))
       throw fail("Physical Curve '" + r.group + "': the nodes of curve " + std::to_string(s.curve) +
                  " do not end on its end points");
-    placeUniformly(s, order, xyz);
+    placeUniformly(s, order, xyz, u);
+    std::vector<double> derivative;  // d x / d u at each node, 3 per node in tag order
+    gmsh::model::getDerivative(1, s.curve, u, derivative);
     for (std::size_t i = 0; i < order.size(); ++i) {
-      if (i == 0 && !nodeTags.empty()) continue;  // shared with the previous curve
       const std::size_t j = order[i];
+      Eigen::Vector3d t(derivative.at(3 * j), derivative.at(3 * j + 1), derivative.at(3 * j + 2));
+      t = (s.forward ? 1.0 : -1.0) * t.normalized();
+      if (i == 0 && !nodeTags.empty()) {  // shared with the previous curve
+        chain.tangents.back() = (chain.tangents.back() + t).normalized();
+        continue;
+      }
+      chain.tangents.push_back(t);
       nodeTags.push_back(tags[j]);
       onPoint.push_back(i == 0 ? first : i + 1 == order.size() ? last : 0);
       chain.positions.emplace_back(xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2]);

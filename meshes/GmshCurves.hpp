@@ -36,6 +36,9 @@ struct NodeChain {
   std::string group;
   std::vector<std::string> names;
   std::vector<Eigen::Vector3d> positions;  ///< [m]
+  /// Unit tangents along the chain: the curve's own direction at each node (where two curves
+  /// of the group meet, the mean of their two).
+  std::vector<Eigen::Vector3d> tangents;
 };
 
 struct CurveMesh {

@@ -160,6 +160,7 @@ std::string encodeCurveMesh(const CurveMesh& m) {
     for (std::size_t i = 0; i < c.names.size(); ++i) {
       w.str(c.names[i]);
       w.vec3(c.positions.at(i));
+      w.vec3(c.tangents.at(i));
     }
   }
   w.u64(m.points.size());
@@ -179,6 +180,7 @@ CurveMesh decodeCurveMesh(const std::string& bytes) {
     for (std::size_t i = r.count(32); i > 0; --i) {
       c.names.push_back(r.str());
       c.positions.push_back(r.vec3());
+      c.tangents.push_back(r.vec3());
     }
     m.chains.push_back(std::move(c));
   }

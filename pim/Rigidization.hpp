@@ -31,10 +31,13 @@ class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint>
   /// Any linear point relation J x = 0 over the nodes' positions (dim rows, position-only
   /// nodes); e.g. a planar body's point r_P = (1 - xi) r_A + xi r_B + eta R90 (r_B - r_A).
   /// With `gradients` = 3 (ancf_beam nodes) J acts on positions and gradients, 12 per node.
-  AttachedPointConstraint(std::string name, std::vector<int> nodes, MatX J, int gradients = 0)
+  /// `kind` names it in messages (default attached_point / attached_slope; `weld`, `hinge`).
+  AttachedPointConstraint(std::string name, std::vector<int> nodes, MatX J, int gradients = 0, std::string kind = "")
       : KernelConstraint(std::move(name), std::move(nodes)), dim_(static_cast<int>(J.rows())),
-        slope_(gradients > 0), gradients_(gradients), J_(std::move(J)) {}
-  std::string kind() const override { return slope_ ? "attached_slope" : "attached_point"; }
+        slope_(gradients > 0), gradients_(gradients), J_(std::move(J)), kind_(std::move(kind)) {}
+  std::string kind() const override {
+    return !kind_.empty() ? kind_ : slope_ ? "attached_slope" : "attached_point";
+  }
   int gradients() const override { return gradients_; }
   int rows() const override { return dim_; }
   void jacobian(const LocalState& s, MatX& J) const override;
@@ -55,6 +58,7 @@ class AttachedPointConstraint : public KernelConstraint<AttachedPointConstraint>
   bool slope_;
   int gradients_;
   MatX J_;  ///< constant Jacobian, dim x (coordinates per node)*(k+2)
+  std::string kind_;
 };
 
 struct Rigidization {

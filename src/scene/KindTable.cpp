@@ -42,6 +42,8 @@ const KindTable& constraintKinds() {
       {"prescribed_coordinate", readPrescribedCoordinate},
       {"prescribed_distance", readPrescribedDistance},
       {"spherical", readSpherical},
+      {"hinge", readHinge},
+      {"weld", readWeld},
   }};
   return t;
 }

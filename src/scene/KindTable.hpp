@@ -48,5 +48,7 @@ void readPrescribedCoordinate(SceneContext&, const YAML::Node&, const std::strin
 void readPrescribedDistance(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readMotor(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 void readPointOnPlane(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readWeld(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
+void readHinge(SceneContext&, const YAML::Node&, const std::string&, const std::string&);
 
 }  // namespace flexsens

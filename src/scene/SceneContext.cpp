@@ -53,7 +53,8 @@ int SceneContext::addGeometryNode(const std::string& name, const Eigen::Vector3d
   return nodeIndex_[name];
 }
 
-std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::string& path) {
+std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::string& path,
+                                          std::vector<Eigen::Vector3d>* tangents) {
   const YAML::Node c = el["curve"];
   if (el["nodes"]) r.fail(el["nodes"], path + ".nodes", "give either nodes or curve (and segments), not both");
   if (geoFile.empty()) r.fail(c, path + ".curve", "curves need a geometry: add geometry: {gmsh: file.geo}");
@@ -69,6 +70,7 @@ std::vector<int> SceneContext::curveNodes(const YAML::Node& el, const std::strin
   const NodeChain& ch = mesh.chains.at(0);
   for (size_t i = 0; i < ch.names.size(); ++i)
     ids.push_back(addGeometryNode(ch.names[i], ch.positions[i], c, path + ".curve"));
+  if (tangents) *tangents = ch.tangents;
   return ids;
 }
 

@@ -70,12 +70,17 @@ class SceneContext {
     m.nodes.push_back(nd);
   }
   bool hasNode(const std::string& name) const { return nodeIndex_.count(name) > 0; }
+  /// The geometry's named points, which `nodes` may list once by name to make them ground,
+  /// clamped, moving or give them slopes; erased when listed.
+  std::set<int> geometryPoints;
   int nodeIndex(const std::string& name) const { return nodeIndex_.at(name); }
   /// A node placed by the geometry; a name met again must be at the same place.
   int addGeometryNode(const std::string& name, const Eigen::Vector3d& x, const YAML::Node& at,
                       const std::string& key);
   /// The node chain of `el.curve` (a Physical Curve of the geometry) with `el.segments` segments.
-  std::vector<int> curveNodes(const YAML::Node& el, const std::string& path);
+  /// tangents (optional): the curve's unit tangent at each node, in chain order.
+  std::vector<int> curveNodes(const YAML::Node& el, const std::string& path,
+                              std::vector<Eigen::Vector3d>* tangents = nullptr);
 
   // ----------------------------------------------------------------------- geometry
   double distance(int a, int b) const { return (m.nodes[a].position - m.nodes[b].position).norm(); }

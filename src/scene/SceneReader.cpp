@@ -43,7 +43,21 @@ void readGeometry(SceneContext& ctx, const YAML::Node& g) {
   const std::string rel = r.text(r.require(g, "gmsh", "geometry"), "geometry.gmsh");
   ctx.geoFile = sceneDataFile(r, g["gmsh"], "geometry.gmsh", rel, inputPolicy().maxMeshBytes);
   const CurveMesh mesh = meshCurves(ctx.geoFile, {}, ctx.where(g["gmsh"], "geometry.gmsh"), ctx.gmsh);
-  for (const auto& [name, x] : mesh.points) ctx.addGeometryNode(name, x, g["gmsh"], "geometry.gmsh");
+  for (const auto& [name, x] : mesh.points) ctx.geometryPoints.insert(ctx.addGeometryNode(name, x, g["gmsh"], "geometry.gmsh"));
+}
+
+/// A listed node's position: given, or that of the geometry's named point it lists (`point`
+/// >= 0), which a given position must equal.
+VecX readNodePosition(SceneContext& ctx, const YAML::Node& nd, const std::string& path, int point) {
+  const YamlReader& r = ctx.r;
+  if (point >= 0 && !nd["position"]) return ctx.m.nodes[point].position;
+  const VecX x = r.vector(r.require(nd, "position", path), path + ".position", ctx.m.dim);
+  if (point >= 0 && (x - ctx.m.nodes[point].position).norm() > 1e-9)
+    r.fail(nd["position"], path + ".position", "the geometry places point '" + ctx.m.nodes[point].name +
+                                                   "' elsewhere; leave position out to take the geometry's");
+  if (!(x.lpNorm<Eigen::Infinity>() <= kMaxCoordinate))
+    r.fail(nd["position"], path + ".position", "expected coordinates within +-1e6 m (kMaxCoordinate)");
+  return x;
 }
 
 /// limits: {gmsh_cpu_s, gmsh_memory_mb}: the bounds of the Gmsh child (meshes/GmshSandbox).
@@ -75,17 +89,16 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
     r.allowKeys(nd, path, {"name", "position", "velocity", "ground", "slope", "gradients", "clamped"});
     Node node;
     node.name = r.text(r.require(nd, "name", path), path + ".name");
-    if (ctx.hasNode(node.name)) r.fail(nd["name"], path + ".name", "duplicate node name '" + node.name + "'");
-    node.position = r.vector(r.require(nd, "position", path), path + ".position", dim);
+    const int point = ctx.hasNode(node.name) && ctx.geometryPoints.count(ctx.nodeIndex(node.name)) ? ctx.nodeIndex(node.name) : -1;
+    if (ctx.hasNode(node.name) && point < 0) r.fail(nd["name"], path + ".name", "duplicate node name '" + node.name + "'");
+    node.position = readNodePosition(ctx, nd, path, point);
     node.velocity = nd["velocity"] ? r.vector(nd["velocity"], path + ".velocity", dim) : VecX::Zero(dim);
-    if (!(node.position.lpNorm<Eigen::Infinity>() <= kMaxCoordinate))
-      r.fail(nd["position"], path + ".position", "expected coordinates within +-1e6 m (kMaxCoordinate)");
     if (!(node.velocity.lpNorm<Eigen::Infinity>() <= kMaxVelocity))
       r.fail(nd["velocity"], path + ".velocity", "expected velocity components within +-1e6 m/s (kMaxVelocity)");
     node.ground = nd["ground"] ? r.boolean(nd["ground"], path + ".ground") : false;
     if (node.ground && node.velocity.norm() > 0)
       r.fail(nd["velocity"], path + ".velocity", "a ground node cannot have a velocity");
-    const int id = static_cast<int>(ctx.m.nodes.size());
+    const int id = point >= 0 ? point : static_cast<int>(ctx.m.nodes.size());
     if (nd["velocity"]) ctx.velocitySetBy(id, path + ".velocity");
     // slope: the initial position gradient of an ANCF node (a direction; stored with unit
     // length, the reference arc length's). clamped: the slope stays fixed.
@@ -116,7 +129,12 @@ void readNodes(SceneContext& ctx, const YAML::Node& list) {
       node.clamped = r.boolean(nd["clamped"], path + ".clamped");
       if (node.clamped) ctx.clamps[id] = {nd["clamped"], path + ".clamped"};
     }
-    ctx.addNode(node);
+    if (point >= 0) {  // the geometry's point, now listed
+      ctx.m.nodes[point] = node;
+      ctx.geometryPoints.erase(point);
+    } else {
+      ctx.addNode(node);
+    }
   }
 }
 
