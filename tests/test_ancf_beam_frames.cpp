@@ -5,8 +5,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "TestModels.hpp"
+#include "app/Run.hpp"
 #include "core/Assembler.hpp"
 #include "integrators/Static.hpp"
 #include "scene/Scene.hpp"
@@ -174,4 +176,67 @@ TEST(AncfBeamFrames, HingeFreesOnlyItsAxis) {
       EXPECT_EQ(residual < 1e-12, free) << (hinge ? "hinge" : "weld") << ", spin about axis " << axis << ": " << residual;
     }
   }
+}
+
+// A general section with given rotary inertia: dQ/dp and dM/dp of E, nu and density against AD
+// (1e-10) and central differences (1e-6) at a deformed state (the rotary inertia does not move
+// with the density).
+TEST(AncfBeamFrames, GeneralSectionParameterDerivatives) {
+  const Scene sc = readSceneText(shaft("{area: 2.0, Iy: 3.0e-3, Iz: 1.0e-3, J: 1.5e-3}", "",
+                                       ", rotary_inertia: [7.0, 5.0]}\nparameters:\n"
+                                       "  - {name: E, of: s, property: E}\n  - {name: nu, of: s, property: nu}\n"
+                                       "  - {name: rho, of: s, property: density"),
+                                 "shaft.yaml");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  std::srand(3);
+  VecX p = m.nominalParameters();
+  const VecX q = m.initialPositions() + 0.02 * VecX::Random(m.n), v = VecX::Zero(m.n);
+  LocalState s = as.localState(*m.elements[1], q, v, p);
+  s.p = &p;
+  test::expectParameterDerivatives(*m.elements[1], s, p, 3);
+}
+
+namespace {
+
+/// The welded or hinged L-frame of lFrame (N = 3 per leg) swinging under a tip force of 20 N
+/// for 0.3 s (trapezoidal, dt 0.005, a frame every step), E and density parameters: max over the
+/// frames of |dd - central difference (h = 1e-4 |p|)| / max |dd| of the tip's z, per parameter.
+std::vector<double> frameRunErrors(const std::string& joint) {
+  const Scene sc = readSceneText(lFrame(3, joint, 20.0) +
+                                     "parameters:\n  - {name: E, of: leg1, property: E}\n"
+                                     "  - {name: rho, of: leg2, property: density}\n",
+                                 "frame.yaml");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const VecX p = m.nominalParameters();
+  auto set = test::integratorSettings("trapezoidal", 0.005, 0.3);
+  set.frameInterval = 0.005;
+  test::Recorder dd;
+  integrate(as, p, initialState(as, p), set, dd);
+  const int z = m.dof(m.nodeIndex("tip"), 2);
+  std::vector<double> errors;
+  for (size_t k = 0; k < m.parameters.size(); ++k) {
+    const double h = 1e-4 * std::abs(p[k]);
+    const auto [plus, minus] = test::runsAtPlusMinus(as, p, k, h, set);
+    double scale = 0.0, err = 0.0;
+    for (size_t f = 1; f < dd.frames.size(); ++f) {
+      const double nd = (plus.frames[f].x.q[z] - minus.frames[f].x.q[z]) / (2 * h);
+      scale = std::max(scale, std::abs(dd.frames[f].dp[k].q[z]));
+      err = std::max(err, std::abs(dd.frames[f].dp[k].q[z] - nd));
+    }
+    std::printf("  %s: dtip_z/d%s at 0.3 s %+.6e, max |dd - nd| / max |dd| %.2e\n", joint.c_str(),
+                m.parameters[k].name.c_str(), dd.frames.back().dp[k].q[z], err / scale);
+    errors.push_back(scale > 0.0 ? err / scale : 1.0);
+  }
+  return errors;
+}
+
+}  // namespace
+
+// Sensitivities of a welded and of a hinged frame's motion against central differences of whole
+// runs (1e-6 of the largest |dz/dp|).
+TEST(AncfBeamFrames, JointSensitivitiesMatchCentralDifferences) {
+  for (const std::string joint : {"type: weld", "type: hinge, axis: [0, 1, 0]"})
+    for (const double e : frameRunErrors(joint)) EXPECT_LT(e, 1e-6) << joint;
 }
