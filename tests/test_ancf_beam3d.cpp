@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "StaticChecks.hpp"
 #include "TestModels.hpp"
 #include "core/Assembler.hpp"
 #include "elements/AncfBeam3D.hpp"
@@ -579,19 +580,7 @@ TEST(AncfBeam3DStatic, SensitivitiesMatchCentralDifferences) {
   std::printf("tip (y, z) = (%.4f, %.4f) m\n", q[m.dof(tip, 1)], q[m.dof(tip, 2)]);
   EXPECT_GT(q[m.dof(tip, 1)], 0.03);
   const StaticSensitivity d = staticSensitivities(as, q, rep.lambda, p);
-  StaticSettings one;
-  one.steps = 1;
-  one.tol = 1e-14;
-  for (int k = 0; k < static_cast<int>(p.size()); ++k) {
-    const double h = 1e-4 * p[k];  // truncation ~1e-8 relative; Newton's tolerance / h well below
-    VecX pp = p, pm = p;
-    pp[k] += h;
-    pm[k] -= h;
-    const VecX fd = (solveStatic(as, pp, q, one) - solveStatic(as, pm, q, one)) / (2 * h);
-    const double err = (d.qp.col(k) - fd).lpNorm<Eigen::Infinity>() / fd.lpNorm<Eigen::Infinity>();
-    std::printf("  d q / d %s: |FD| %.3e, rel. error %.2e\n", m.parameters[k].name.c_str(), fd.lpNorm<Eigen::Infinity>(), err);
-    EXPECT_LT(err, 1e-6) << m.parameters[k].name;
-  }
+  test::expectStaticSensitivitiesMatchCentralDifferences(as, m, p, q, d.qp, 1e-6);
 }
 
 // Initial gradient rates from the nodes' velocities: a chain turning rigidly with w about an

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "StaticChecks.hpp"
 #include "TestModels.hpp"
 #include "core/Assembler.hpp"
 #include "elements/AncfBeam3D.hpp"
@@ -208,20 +209,25 @@ TEST(AncfBeamCurved, StaticSensitivitiesMatchCentralDifferences) {
   const VecX q = solveStatic(as, p, m.initialPositions(), set, &rep);
   EXPECT_GT(q[m.dof(4, 2)], 10.0) << "a large deflection";
   const StaticSensitivity d = staticSensitivities(as, q, rep.lambda, p);
-  StaticSettings one;
-  one.steps = 1;
-  one.tol = 1e-14;
-  for (int k = 0; k < static_cast<int>(p.size()); ++k) {
-    const double h = 1e-4 * p[k];
-    VecX pp = p, pm = p;
-    pp[k] += h;
-    pm[k] -= h;
-    const VecX fd = (solveStatic(as, pp, q, one) - solveStatic(as, pm, q, one)) / (2 * h);
-    const double err = (d.qp.col(k) - fd).lpNorm<Eigen::Infinity>() / fd.lpNorm<Eigen::Infinity>();
-    std::printf("  d q / d %s: |FD| %.3e, rel. error %.2e\n", m.parameters[k].name.c_str(), fd.lpNorm<Eigen::Infinity>(), err);
-    EXPECT_LT(err, 1e-6) << m.parameters[k].name;
-  }
+  test::expectStaticSensitivitiesMatchCentralDifferences(as, m, p, q, d.qp, 1e-6);
 }
+
+namespace {
+
+/// Every ancf_beam node's r_x equals the curve's unit tangent at its position (to Gmsh's
+/// derivative, ~1e-8); `count` such nodes.
+template <class Tangent>
+void expectTangents(const Model& m, int count, Tangent exact) {
+  int checked = 0;
+  for (const Node& nd : m.nodes) {
+    if (nd.slope.size() != 9) continue;
+    EXPECT_LT((nd.slope.head<3>() - exact(nd.position)).norm(), 1e-7) << nd.name;
+    ++checked;
+  }
+  EXPECT_EQ(checked, count);
+}
+
+}  // namespace
 
 // examples/frames/bathe_bolourchi.yaml: the arc meshed by Gmsh from bend.geo; its nodes take
 // the circle's own tangents (to Gmsh's derivative, ~1e-8), and the tip lands within 1% of the
@@ -229,14 +235,10 @@ TEST(AncfBeamCurved, StaticSensitivitiesMatchCentralDifferences) {
 TEST(AncfBeamCurved, GmshArcTakesTheCirclesTangents) {
   const Scene sc = readScene(test::sourceDir() + "/examples/frames/bathe_bolourchi.yaml");
   const Model& m = *sc.model;
-  int checked = 0;
-  for (const Node& nd : m.nodes) {
-    if (nd.slope.size() != 9) continue;
-    const double th = std::atan2(nd.position[0], 100.0 - nd.position[1]);  // angle about the centre (0, 100)
-    EXPECT_LT((nd.slope.head<3>() - Eigen::Vector3d(std::cos(th), std::sin(th), 0)).norm(), 1e-7) << nd.name;
-    ++checked;
-  }
-  EXPECT_EQ(checked, 9);
+  expectTangents(m, 9, [](const VecX& x) {
+    const double th = std::atan2(x[0], 100.0 - x[1]);  // angle about the centre (0, 100)
+    return Eigen::Vector3d(std::cos(th), std::sin(th), 0);
+  });
   Assembler as(m);
   StaticSettings set;
   set.steps = 20;
@@ -253,15 +255,10 @@ TEST(AncfBeamCurved, GmshArcTakesTheCirclesTangents) {
 TEST(AncfBeamCurved, GmshCurveTangentsOnAnEllipse) {
   const Scene sc = readScene(test::sourceDir() + "/tests/scenes/gmsh/ellipse_beam.yaml");
   const Model& m = *sc.model;
-  int checked = 0;
-  for (const Node& nd : m.nodes) {
-    if (nd.slope.size() != 9) continue;
-    const double t = std::atan2(nd.position[1] / 10.0, nd.position[0] / 20.0);
-    const Eigen::Vector3d exact = Eigen::Vector3d(-2 * std::sin(t), std::cos(t), 0).normalized();
-    EXPECT_LT((nd.slope.head<3>() - exact).norm(), 1e-7) << nd.name;
-    ++checked;
-  }
-  EXPECT_EQ(checked, 7);
+  expectTangents(m, 7, [](const VecX& x) {
+    const double t = std::atan2(x[1] / 10.0, x[0] / 20.0);
+    return Eigen::Vector3d(Eigen::Vector3d(-2 * std::sin(t), std::cos(t), 0).normalized());
+  });
   // the fitted end tangent (the first chord reflected about the bisector at node 1)
   const Eigen::Vector3d x0 = m.nodes[m.nodeIndex("start")].position, x1 = m.nodes[m.nodeIndex("quarter.1")].position;
   const Eigen::Vector3d x2 = m.nodes[m.nodeIndex("quarter.2")].position;
