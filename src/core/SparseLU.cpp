@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace flexsens {
@@ -29,6 +30,9 @@ void SparseLU::release() {
 }
 
 namespace {
+/// Scales below this are round-off at the underflow level (1e3 DBL_MIN / DBL_EPSILON ~ 1e-289).
+constexpr double kUnderflowScale = 1e3 * std::numeric_limits<double>::min() / std::numeric_limits<double>::epsilon();
+
 bool samePattern(const SpMat& a, const SpMat& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
          std::memcmp(a.outerIndexPtr(), b.outerIndexPtr(), sizeof(int64_t) * (a.cols() + 1)) == 0 &&
@@ -180,10 +184,13 @@ void SparseLU::refine(MatX& b) const {
         }
       }
     }
+    // Componentwise backward error; a scale at the underflow level (the tiny entries of a
+    // parameter's solution outside the body it acts on: residual and scale both ~1e-323 gave
+    // omega = 1 and a useless second pass on every sensitivity solve) counts as kUnderflowScale.
     double omega = 0.0;
     for (Eigen::Index i = 0; i < rRows_.rows(); ++i)
       for (Eigen::Index c = 0; c < k; ++c)
-        if (rRows_(i, c) != 0.0) omega = std::max(omega, std::abs(rRows_(i, c)) / scaleRows_(i, c));
+        if (rRows_(i, c) != 0.0) omega = std::max(omega, std::abs(rRows_(i, c)) / std::max(scaleRows_(i, c), kUnderflowScale));
     if (omega <= kRefineAbove) break;
     MatX r = rRows_;
     plainSolve(r);
