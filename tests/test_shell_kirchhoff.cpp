@@ -1,0 +1,212 @@
+// Kirchhoff-Love shell triangles (elements/ShellKirchhoff.hpp, `bending: kirchhoff`).
+// References independent of the code under test: central finite differences (force Jacobian,
+// parameter derivatives, potential gradient), the AD kernel, the exact curvature of a flat
+// plate in pure bending by edge moments (kappa_xx = m / (D (1 - nu^2)), kappa_yy = -nu kappa_xx,
+// Timoshenko & Woinowsky-Krieger, Theory of Plates and Shells, sec. 10), and Navier's series for
+// the simply supported square plate under a uniform load (w_c = 0.00406235 q a^4 / D for any
+// nu, Timoshenko & Woinowsky-Krieger table 8).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "ShellPlates.hpp"
+#include "TestModels.hpp"
+#include "elements/ShellKirchhoff.hpp"
+#include "elements/ShellMesh.hpp"
+
+using namespace flexsens;
+using flexsens::test::fdJacobian;
+using flexsens::test::PlateMesh;
+using flexsens::test::relMax;
+using flexsens::test::shiftedRows;
+
+namespace {
+
+/// shiftedRows with its interior nodes moved at random by up to 0.25 of the row spacing: an
+/// irregular mesh of a rectangle with straight edges.
+PlateMesh irregularPlate(int nx, int ny, double ax, double ay, unsigned seed) {
+  PlateMesh m = shiftedRows(nx, ny, ax, ay);
+  std::srand(seed);
+  const double dx = ax / nx, dy = ay / ny;
+  for (auto& X : m.X) {
+    const bool edge = X.x() < 1e-12 || X.x() > ax - 1e-12 || X.y() < 1e-12 || X.y() > ay - 1e-12;
+    if (edge) continue;
+    X.x() += 0.25 * dx * (2.0 * std::rand() / RAND_MAX - 1.0);
+    X.y() += 0.25 * dy * (2.0 * std::rand() / RAND_MAX - 1.0);
+  }
+  return m;
+}
+
+std::shared_ptr<ShellProperties> plateProps(double E, double nu, double t, bool bound) {
+  auto pr = std::make_shared<ShellProperties>();
+  pr->E = {E, bound ? 0 : -1};
+  pr->nu = {nu, bound ? 1 : -1};
+  pr->thickness = {t, bound ? 2 : -1};
+  pr->density = {1000.0, -1};
+  return pr;
+}
+
+LocalState stateOf(const Element& e, const std::vector<Eigen::Vector3d>& X, const VecX* p) {
+  LocalState s;
+  s.dim = 3;
+  s.p = p;
+  s.x.resize(3 * e.nodes().size());
+  for (size_t j = 0; j < e.nodes().size(); ++j) s.x.segment<3>(3 * j) = X[e.nodes()[j]];
+  s.v = VecX::Zero(s.x.size());
+  return s;
+}
+
+/// The boundary edges of m on x = x0 (|x - x0| < 1e-12 at both nodes).
+std::vector<std::pair<int, int>> edgesOnX(const PlateMesh& m, double x0) {
+  std::vector<std::pair<int, int>> out;
+  for (const auto& [i, j] : shellBoundaryEdges(m.tris))
+    if (std::abs(m.X[i].x() - x0) < 1e-12 && std::abs(m.X[j].x() - x0) < 1e-12) out.push_back({i, j});
+  return out;
+}
+
+}  // namespace
+
+// Every bending triangle of a curved irregular patch with all three kinds of edges (shared,
+// fixed: a clamp on x = 0, free with an edge moment on x = 1, free on y = 0, 1): Q = -dU/dq,
+// dQ/dq against central differences and AD, dQ/dp (E, nu, thickness) against central differences.
+TEST(ShellKirchhoff, DerivativesAgainstFiniteDifferencesAndAD) {
+  PlateMesh m = irregularPlate(4, 4, 1.0, 1.0, 3);
+  for (auto& X : m.X) X.z() = 0.3 * X.x() * X.x() - 0.2 * X.x() * X.y() + 0.1 * X.y() * X.y();  // curved rest
+  KirchhoffBoundaries bc;
+  for (const auto& e : edgesOnX(m, 0.0)) bc[e].fixed = true;
+  for (const auto& e : edgesOnX(m, 1.0)) bc[e].moment = 2.5;
+  std::vector<int> ids(m.X.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+  std::vector<std::unique_ptr<Element>> els;
+  const int n = buildKirchhoffBending("s", m.X, m.tris, ids, plateProps(0, 0, 0, true), false, els,
+                                      [](int i) { return std::to_string(i); }, bc);
+  ASSERT_EQ(n, static_cast<int>(m.tris.size()));
+  VecX p = (VecX(3) << 2.0e6, 0.3, 0.02).finished();
+  std::srand(11);
+  std::vector<Eigen::Vector3d> x = m.X;
+  for (auto& xi : x) xi += 0.03 * Eigen::Vector3d::Random();
+  int checked = 0;
+  for (const auto& el : els) {
+    SCOPED_TRACE(el->name());
+    const LocalState s = stateOf(*el, x, &p);
+    VecX Q;
+    el->force(s, Q);
+    EXPECT_GT(Q.norm(), 0.0);
+    auto U = [&](const VecX& q) { LocalState t = s; t.x = q; VecX r(1); r[0] = el->potential(t); return r; };
+    EXPECT_LT(relMax(-fdJacobian(U, s.x).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+    MatX K, Kv, Kad, Kvad;
+    el->forceJacobian(s, K, Kv);
+    el->forceJacobianAD(s, Kad, Kvad);
+    EXPECT_LT(relMax(Kad, K), 1e-9) << "AD vs analytic dQ/dq";
+    EXPECT_EQ(Kv.norm(), 0.0);
+    auto fq = [&](const VecX& q) { LocalState t = s; t.x = q; VecX F; el->force(t, F); return F; };
+    EXPECT_LT(relMax(fdJacobian(fq, s.x), K), 1e-6) << "FD vs analytic dQ/dq";
+    flexsens::test::expectParameterDerivatives(*el, s, p, 3);
+    ++checked;
+  }
+  EXPECT_EQ(checked, static_cast<int>(m.tris.size()));
+}
+
+// A rigid motion of a bent state leaves the energy unchanged (objectivity), and the rest state
+// of a curved mesh carries no force.
+TEST(ShellKirchhoff, RestIsFreeAndRigidMotionsCostNothing) {
+  PlateMesh m = irregularPlate(5, 5, 1.0, 1.0, 5);
+  for (auto& X : m.X) X.z() = 0.4 * X.x() * X.x() + 0.2 * X.y() * X.y();
+  std::vector<int> ids(m.X.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+  std::vector<std::unique_ptr<Element>> els;
+  buildKirchhoffBending("s", m.X, m.tris, ids, plateProps(1e6, 0.3, 0.01, false), false, els,
+                        [](int i) { return std::to_string(i); }, {});
+  const VecX p(0);
+  std::vector<Eigen::Vector3d> bent = m.X, moved(m.X.size());
+  for (auto& X : bent) X.z() += 0.1 * X.x() * X.y();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (size_t i = 0; i < bent.size(); ++i) moved[i] = R * bent[i] + Eigen::Vector3d(0.3, -1, 2);
+  double U0 = 0, U1 = 0, restForce = 0;
+  for (const auto& el : els) {
+    U0 += el->potential(stateOf(*el, bent, &p));
+    U1 += el->potential(stateOf(*el, moved, &p));
+    VecX Q;
+    el->force(stateOf(*el, m.X, &p), Q);
+    restForce = std::max(restForce, Q.lpNorm<Eigen::Infinity>());
+  }
+  EXPECT_GT(U0, 0.0);
+  EXPECT_NEAR(U1, U0, 1e-11 * U0);
+  EXPECT_LT(restForce, 1e-12);
+}
+
+// Patch test: a flat plate a x b on an irregular mesh, edge moments m on x = 0 and x = a, the
+// edges y = 0, b free, nu = 0.3. Kirchhoff's solution is the quadratic w = kxx x^2 / 2 + kyy
+// y^2 / 2 (plus a rigid motion), kxx = m / (D (1 - nu^2)), kyy = -nu kxx; the discrete linear
+// solution reproduces it at every node to round-off, and every triangle's curvature.
+TEST(ShellKirchhoff, PatchTestPureBendingByEdgeMomentsOnAnIrregularMesh) {
+  const double a = 2.0, b = 1.0, E = 1e6, nu = 0.3, t = 0.05, moment = 3.0;
+  const double D = E * t * t * t / (12 * (1 - nu * nu)), kxx = moment / (D * (1 - nu * nu)), kyy = -nu * kxx;
+  for (const unsigned seed : {1u, 2u}) {
+    SCOPED_TRACE("mesh seed " + std::to_string(seed));
+    const PlateMesh m = irregularPlate(7, 5, a, b, seed);
+    std::vector<int> ids(m.X.size());
+    for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+    KirchhoffBoundaries loaded;
+    for (double x0 : {0.0, a})
+      for (const auto& e : edgesOnX(m, x0)) loaded[e].moment = moment;
+    KirchhoffBoundaries small = loaded;  // the moments of the small copy below
+    for (auto& [e, c] : small) c.moment *= 1e-6;
+    std::vector<std::unique_ptr<Element>> bend, load, scaled;
+    auto label = [](int i) { return std::to_string(i); };
+    buildKirchhoffBending("k", m.X, m.tris, ids, plateProps(E, nu, t, false), false, bend, label, {});
+    buildKirchhoffBending("m", m.X, m.tris, ids, plateProps(E, nu, t, false), false, load, label, loaded);
+    buildKirchhoffBending("c", m.X, m.tris, ids, plateProps(E, nu, t, false), false, scaled, label, small);
+    // the rigid motions held by w = 0 at three corners
+    std::vector<bool> fixed(m.X.size(), false);
+    int corners = 0;
+    for (size_t i = 0; i < m.X.size(); ++i)
+      if ((m.X[i] - Eigen::Vector3d(0, 0, 0)).norm() < 1e-12 || (m.X[i] - Eigen::Vector3d(a, 0, 0)).norm() < 1e-12 ||
+          (m.X[i] - Eigen::Vector3d(0, b, 0)).norm() < 1e-12)
+        fixed[i] = true, ++corners;
+    ASSERT_EQ(corners, 3);
+    MatX K, M;
+    std::vector<int> zdof;
+    flexsens::test::transverseMatrices(bend, m.X, fixed, K, M, zdof);
+    VecX F = VecX::Zero(K.rows());
+    const VecX p(0);
+    for (const auto& el : load) {  // the moments' load at rest: Q of the loaded elements
+      VecX Q;
+      el->force(stateOf(*el, m.X, &p), Q);
+      for (size_t j = 0; j < el->nodes().size(); ++j)
+        if (zdof[el->nodes()[j]] >= 0) F[zdof[el->nodes()[j]]] += Q[3 * j + 2];
+    }
+    const VecX w = K.ldlt().solve(F);
+    // exact: the quadratic minus its plane through the three fixed corners
+    auto exact = [&](const Eigen::Vector3d& X) {
+      const double q = 0.5 * kxx * X.x() * X.x() + 0.5 * kyy * X.y() * X.y();
+      return q - 0.5 * kxx * a * X.x() - 0.5 * kyy * b * X.y();
+    };
+    double err = 0, scale = 0;
+    std::vector<Eigen::Vector3d> x = m.X;
+    for (size_t i = 0; i < m.X.size(); ++i) {
+      const double wi = zdof[i] >= 0 ? w[zdof[i]] : 0.0;
+      err = std::max(err, std::abs(wi - exact(m.X[i])));
+      scale = std::max(scale, std::abs(exact(m.X[i])));
+      x[i].z() = 1e-6 * wi;  // a small copy of the solution for the curvatures
+    }
+    EXPECT_GT(scale, 0.0);
+    EXPECT_LT(err, 1e-9 * scale) << "nodal deflections against the quadratic";
+    double kerr = 0;
+    for (const auto& el : scaled) {
+      const auto& k = static_cast<const ShellKirchhoffBending&>(*el);
+      const LocalState s = stateOf(k, x, &p);
+      // the element's basis: t1 along its first edge, t2 = n0 x t1; the exact tensor rotated into it
+      const Eigen::Vector3d n0 = (m.X[k.nodes()[1]] - m.X[k.nodes()[0]]).cross(m.X[k.nodes()[2]] - m.X[k.nodes()[0]]);
+      const double sign = n0.z() > 0 ? 1.0 : -1.0;  // kappa is measured along the triangle's own normal
+      const Eigen::Vector3d t1 = (m.X[k.nodes()[1]] - m.X[k.nodes()[0]]).normalized();
+      const Eigen::Vector3d t2 = (sign * Eigen::Vector3d::UnitZ()).cross(t1);
+      Eigen::Matrix<double, 3, 2> B;
+      B << t1, t2;
+      const Eigen::Matrix2d exactK = B.topRows<2>().transpose() * Eigen::Vector2d(kxx, kyy).asDiagonal() * B.topRows<2>();
+      kerr = std::max(kerr, (sign * k.curvatureChange(s) / 1e-6 - exactK).norm() / kxx);
+    }
+    EXPECT_LT(kerr, 1e-5) << "each triangle's curvature";
+  }
+}
