@@ -13,10 +13,14 @@ whose diaphragm ends hold the two in-plane displacement components of each end n
               Reference radial displacement under the load 1.8248e-5.
 
 usage: shell_benchmarks.py roof|cylinder N OUTDIR
+The environment variable BENDING (hinges or kirchhoff, default hinges) picks the shell's
+bending model (`bending:` key).
 """
 import math
 import os
 import sys
+
+BENDING = os.environ.get("BENDING", "hinges")
 
 
 def lattice(nx, ns, lx, ls, periodic):
@@ -95,7 +99,7 @@ def roof(n, outdir):
     lines = ["# Scordelis-Lo roof, %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)" % (n, ns, len(xyz)),
              "dimension: 3", "gravity: [0, 0, -10]", "elements:",
              "  - {name: shell, type: shell, mesh: roof_%d.msh, group: shell, E: 4.32e8, nu: 0.0," % n,
-             "     density: 36, thickness: 0.25, support: [{group: ends, fix: [y, z]}]}", "constraints:"]
+             "     density: 36, thickness: 0.25, bending: %s, support: [{group: ends, fix: [y, z]}]}" % BENDING, "constraints:"]
     # the axial rigid motion: the free edges' middle nodes hold x (zero by symmetry)
     for k, node in enumerate((mid, rows[ns][n // 2])):
         lines.append("  - {name: axial%d, type: prescribed_coordinate, node: %s, axis: x, "
@@ -120,7 +124,7 @@ def cylinder(n, outdir):
     lines = ["# Pinched cylinder with diaphragms, %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)"
              % (n, ns, len(xyz)), "dimension: 3", "gravity: [0, 0, 0]", "elements:",
              "  - {name: shell, type: shell, mesh: cylinder_%d.msh, group: shell, E: 3.0e6, nu: 0.3," % n,
-             "     density: 1, thickness: 3.0, support: [{group: ends, fix: [y, z]}]}",
+             "     density: 1, thickness: 3.0, bending: %s, support: [{group: ends, fix: [y, z]}]}" % BENDING,
              "  - {name: P_top, type: point_force, node: top, force: [0, 0, -1]}",
              "  - {name: P_bottom, type: point_force, node: bottom, force: [0, 0, 1]}", "constraints:"]
     # the axial rigid motion: the loaded points hold x (zero by symmetry)
