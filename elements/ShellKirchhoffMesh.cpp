@@ -15,6 +15,7 @@
 
 #include "elements/ShellKirchhoff.hpp"
 #include "elements/ShellMesh.hpp"
+#include "elements/ShellPatchMembrane.hpp"
 
 namespace flexsens {
 
@@ -143,13 +144,31 @@ Eigen::Vector3d outward(const std::vector<Eigen::Vector3d>& X, const std::array<
   return (away - e * e.dot(away)).normalized();
 }
 
+/// The EBST1 membrane of a fit: its shape gradients at the centroid (xi = 0).
+void addPatchMembrane(const std::string& name, const QuadraticFit& f, const std::vector<Eigen::Vector3d>& rest,
+                      const std::vector<int>& ids, const std::shared_ptr<ShellProperties>& props,
+                      std::vector<std::unique_ptr<Element>>& out) {
+  Eigen::Matrix<double, 6, 2> G;
+  VecX X(18);
+  std::vector<int> model(6);
+  for (int a = 0; a < 6; ++a) {
+    G(a, 0) = f.Vinv(1, a);
+    G(a, 1) = f.Vinv(2, a);
+    X.segment<3>(3 * a) = rest[f.nodes[a]];
+    model[a] = ids[f.nodes[a]];
+  }
+  const Eigen::Vector3d& X0 = rest[f.nodes[0]];
+  const double area = 0.5 * (rest[f.nodes[1]] - X0).cross(rest[f.nodes[2]] - X0).norm();
+  out.push_back(std::make_unique<ShellPatchMembrane>(name, model, props, X, G, area));
+}
+
 }  // namespace
 
 int buildKirchhoffBending(const std::string& name, const std::vector<Eigen::Vector3d>& rest,
                           const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                           const std::shared_ptr<ShellProperties>& props, bool flatRest,
                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                          const KirchhoffBoundaries& boundary) {
+                          const KirchhoffBoundaries& boundary, bool patchMembrane) {
   const Topology topo = topology(tris, rest.size());
   std::vector<QuadraticFit> fits;
   for (size_t k = 0; k < tris.size(); ++k) {
@@ -201,6 +220,7 @@ int buildKirchhoffBending(const std::string& name, const std::vector<Eigen::Vect
     }
     out.push_back(std::make_unique<ShellKirchhoffBending>(name + ".bend" + std::to_string(k), model, props, X, edges,
                                                           flatRest));
+    if (patchMembrane) addPatchMembrane(name + ".membrane" + std::to_string(k), fits[k], rest, ids, props, out);
   }
   return static_cast<int>(tris.size());
 }

@@ -13,7 +13,7 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
                            const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                            const std::shared_ptr<ShellProperties>& props, bool flatRest,
                            std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                           const std::vector<bool>& clamped, const KirchhoffBoundaries* kirchhoff) {
+                           const std::vector<bool>& clamped, const KirchhoffSettings* kirchhoff) {
   ShellMeshCounts n;
   auto nodesOf = [&](const std::vector<int>& mesh) {
     std::string s;
@@ -46,7 +46,10 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
                                     " is shared by " + std::to_string(wings.size()) +
                                     " triangles (a non-manifold edge); expected at most 2");
     }
-    n.kirchhoff = buildKirchhoffBending(name, rest, tris, ids, props, flatRest, out, label, *kirchhoff);
+    if (kirchhoff->patchMembrane)
+      for (auto it = out.end() - n.triangles; it != out.end(); ++it) static_cast<ShellTriangle&>(**it).disableMembrane();
+    n.kirchhoff = buildKirchhoffBending(name, rest, tris, ids, props, flatRest, out, label, kirchhoff->boundary,
+                                        kirchhoff->patchMembrane);
     return n;
   }
   for (const auto& [e, wings] : edges) {

@@ -34,15 +34,22 @@ struct KirchhoffBoundary {
 };
 /// Boundary edges (mesh node pairs i < j) with a condition; the others are free.
 using KirchhoffBoundaries = std::map<std::pair<int, int>, KirchhoffBoundary>;
+/// A Kirchhoff shell's edges and membrane: patch (elements/ShellPatchMembrane.hpp, from the
+/// same fits) or the triangles' own CST.
+struct KirchhoffSettings {
+  KirchhoffBoundaries boundary;
+  bool patchMembrane = false;
+};
 
 /// The Kirchhoff bending triangles (<name>.bend<k>) of triangles tris, one per triangle, their
-/// stencils from 6-node quadratic fits (ShellMesh.cpp). Throws std::invalid_argument when no
+/// stencils from 6-node quadratic fits (ShellKirchhoffMesh.cpp), and with patchMembrane one
+/// ShellPatchMembrane (<name>.membrane<k>) per triangle. Throws std::invalid_argument when no
 /// well-posed fit exists near a triangle (a mesh too small or too distorted). Returns their count.
 int buildKirchhoffBending(const std::string& name, const std::vector<Eigen::Vector3d>& rest,
                           const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                           const std::shared_ptr<ShellProperties>& props, bool flatRest,
                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                          const KirchhoffBoundaries& boundary);
+                          const KirchhoffBoundaries& boundary, bool patchMembrane = false);
 
 /// rest: rest positions of the mesh nodes [m]; tris: node indices (into rest and ids) of each
 /// triangle; ids: model node of each mesh node. Elements are named <name>.tri<k> and
@@ -56,7 +63,7 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
                            const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                            const std::shared_ptr<ShellProperties>& props, bool flatRest,
                            std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                           const std::vector<bool>& clamped = {}, const KirchhoffBoundaries* kirchhoff = nullptr);
+                           const std::vector<bool>& clamped = {}, const KirchhoffSettings* kirchhoff = nullptr);
 
 /// The boundary edges (node pairs i < j, each in one triangle only) of triangles tris.
 std::vector<std::pair<int, int>> shellBoundaryEdges(const std::vector<std::array<int, 3>>& tris);

@@ -104,7 +104,7 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "material", "E", "nu", "density", "thickness",
-                        "rest_shape", "bending", "damping", "ground", "support", "symmetry", "attach", "clamp", "velocity", "angular_velocity", "center"});
+                        "rest_shape", "bending", "membrane", "damping", "ground", "support", "symmetry", "attach", "clamp", "velocity", "angular_velocity", "center"});
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
   props->law.law = readMaterialLaw(r, el, path);
@@ -126,6 +126,14 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     const std::string b = r.text(el["bending"], path + ".bending");
     if (b == "kirchhoff") kirchhoff = true;
     else if (b != "hinges") r.fail(el["bending"], path + ".bending", "expected hinges or kirchhoff; got '" + b + "'");
+  }
+  bool patchMembrane = false;
+  if (el["membrane"]) {
+    const std::string mk = r.text(el["membrane"], path + ".membrane");
+    if (mk == "patch") patchMembrane = true;
+    else if (mk != "cst") r.fail(el["membrane"], path + ".membrane", "expected cst or patch; got '" + mk + "'");
+    if (patchMembrane && !kirchhoff)
+      r.fail(el["membrane"], path + ".membrane", "membrane: patch needs bending: kirchhoff (its fits); expected cst with bending: hinges");
   }
   if (el["damping"]) {
     const YAML::Node dn = el["damping"];
@@ -162,8 +170,9 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
                               " (a clamp holds the rotation about an edge)");
     }
   }
-  KirchhoffBoundaries boundaries;
-  if (kirchhoff) boundaries = kirchhoffBoundaries(tris, clamped, planes);
+  KirchhoffSettings boundaries;
+  if (kirchhoff) boundaries.boundary = kirchhoffBoundaries(tris, clamped, planes);
+  boundaries.patchMembrane = patchMembrane;
   try {
     buildShell(name, mesh.positions, tris, ids, props, flatRest, m.elements,
                [&](int i) { return std::to_string(mesh.gmshTags[i]); }, clamped, kirchhoff ? &boundaries : nullptr);

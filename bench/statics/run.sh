@@ -32,4 +32,5 @@ PY
 for mode in ${MODES:-nonlinear linear}; do
   for n in ${ROOF_N:-8 16 32 64 96}; do run roof "$n" midside_z 19.151111077974452 0.3024 "$mode"; done
   for n in ${CYL_N:-8 16 32 48 64}; do run cylinder "$n" top_z 300 1.8248e-5 "$mode"; done
+  for n in ${EIGHTH_N:-}; do run eighth "$n" top_z 300 1.8248e-5 "$mode"; done
 done
