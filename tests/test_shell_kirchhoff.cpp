@@ -17,7 +17,10 @@
 #include "TestModels.hpp"
 #include "scene/Scene.hpp"
 #include "elements/ShellKirchhoff.hpp"
+#include "elements/ShellPatchMembrane.hpp"
 #include "elements/ShellMesh.hpp"
+
+#include <Eigen/Eigenvalues>
 
 using namespace flexsens;
 using flexsens::test::fdJacobian;
@@ -251,5 +254,108 @@ TEST(ShellKirchhoff, SquarePlateOnGmshMeshesMatchesKirchhoffsPlate) {
     EXPECT_LT(std::abs(errs[0]), simple ? 0.02 : 0.12) << support;
     EXPECT_LT(std::abs(errs[1]), simple ? 0.005 : 0.03) << support;
     EXPECT_GT(std::abs(errs[0] / errs[1]), 3.0) << support << ": about second order (h halved)";
+  }
+}
+
+namespace {
+/// The stiffness -dQ/dq (3 coordinates per mesh node) of elements els at positions x.
+MatX assembledStiffness(const std::vector<std::unique_ptr<Element>>& els, const std::vector<Eigen::Vector3d>& x) {
+  const int n = static_cast<int>(x.size());
+  MatX K = MatX::Zero(3 * n, 3 * n);
+  const VecX p(0);
+  for (const auto& el : els) {
+    const LocalState s = stateOf(*el, x, &p);
+    MatX Kq, Kv;
+    el->forceJacobian(s, Kq, Kv);
+    const auto& idx = el->nodes();
+    for (size_t a = 0; a < idx.size(); ++a)
+      for (size_t b = 0; b < idx.size(); ++b) K.block<3, 3>(3 * idx[a], 3 * idx[b]) -= Kq.block<3, 3>(3 * a, 3 * b);
+  }
+  return K;
+}
+}  // namespace
+
+// The patch membrane (`membrane: patch`, elements/ShellPatchMembrane.hpp): Q = -dU/dq, dQ/dq
+// against central differences and AD, dQ/dp against central differences, on a curved irregular
+// patch; a uniform in-plane strain of a flat irregular plate (a linear displacement field) gives
+// the same stress in every membrane (the membrane patch test); a free shell, flat or curved, has
+// exactly 6 zero-energy modes (its rigid motions: no spurious mode).
+TEST(ShellKirchhoff, PatchMembraneDerivativesPatchTestAndRank) {
+  PlateMesh m = irregularPlate(4, 4, 1.0, 1.0, 9);
+  std::vector<Eigen::Vector3d> curved = m.X;
+  for (auto& X : curved) X.z() = 0.3 * X.x() * X.x() + 0.1 * X.x() * X.y();
+  std::vector<int> ids(m.X.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+  auto label = [](int i) { return std::to_string(i); };
+  std::vector<std::unique_ptr<Element>> els;
+  buildKirchhoffBending("s", curved, m.tris, ids, plateProps(0, 0, 0, true), false, els, label, {}, true);
+  VecX p = (VecX(3) << 2.0e6, 0.3, 0.02).finished();
+  std::srand(13);
+  std::vector<Eigen::Vector3d> x = curved;
+  for (auto& xi : x) xi += 0.03 * Eigen::Vector3d::Random();
+  int membranes = 0;
+  for (const auto& el : els) {
+    if (el->kind() != "shell_patch_membrane") continue;
+    SCOPED_TRACE(el->name());
+    ++membranes;
+    const LocalState s = stateOf(*el, x, &p);
+    VecX Q;
+    el->force(s, Q);
+    EXPECT_GT(Q.norm(), 0.0);
+    EXPECT_LT(relMax(static_cast<const ShellPatchMembrane&>(*el).kernelForce(s), Q), 1e-12) << "force() vs the value template";
+    auto U = [&](const VecX& q) { LocalState t = s; t.x = q; VecX r(1); r[0] = el->potential(t); return r; };
+    EXPECT_LT(relMax(-fdJacobian(U, s.x).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+    MatX K, Kv, Kad, Kvad;
+    el->forceJacobian(s, K, Kv);
+    el->forceJacobianAD(s, Kad, Kvad);
+    EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+    auto fq = [&](const VecX& q) { LocalState t = s; t.x = q; VecX F; el->force(t, F); return F; };
+    EXPECT_LT(relMax(fdJacobian(fq, s.x), K), 1e-6) << "FD vs analytic dQ/dq";
+    flexsens::test::expectParameterDerivatives(*el, s, p, 3);
+  }
+  EXPECT_EQ(membranes, static_cast<int>(m.tris.size()));
+  // membrane patch test: x = X + H X (H a constant in-plane gradient) on the flat mesh
+  std::vector<std::unique_ptr<Element>> flat;
+  buildKirchhoffBending("f", m.X, m.tris, ids, plateProps(1e6, 0.3, 0.01, false), false, flat, label, {}, true);
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  H.topLeftCorner<2, 2>() << 1e-4, 3e-5, -2e-5, -5e-5;
+  std::vector<Eigen::Vector3d> strained = m.X;
+  for (auto& X : strained) X += H * X;
+  const VecX p0(0);
+  Eigen::VectorXd first;
+  double spread = 0, scale = 0;
+  for (const auto& el : flat) {
+    if (el->kind() != "shell_patch_membrane") continue;
+    VecX Q;
+    el->force(stateOf(*el, strained, &p0), Q);
+    // the force on the triangle's own vertices of a uniform stress: A t F S G_a; compare the
+    // stress through the energy density U / A (uniform in a patch test)
+    const double u = el->potential(stateOf(*el, strained, &p0));
+    const Eigen::Vector3d X0 = m.X[el->nodes()[0]], X1 = m.X[el->nodes()[1]], X2 = m.X[el->nodes()[2]];
+    const double density = u / (0.5 * (X1 - X0).cross(X2 - X0).norm());
+    if (first.size() == 0) first = Eigen::VectorXd::Constant(1, density);
+    spread = std::max(spread, std::abs(density - first[0]));
+    scale = std::max(scale, density);
+  }
+  EXPECT_GT(scale, 0.0);
+  EXPECT_LT(spread, 1e-8 * scale) << "energy density of a uniform strain";
+  // rank: 6 rigid motions, no more, flat and curved
+  for (const auto* rest : {&m.X, &curved}) {
+    std::vector<std::unique_ptr<Element>> all;
+    auto pr = plateProps(1e6, 0.3, 0.01, false);
+    buildShell("r", *rest, m.tris, ids, pr, false, all, label, {}, nullptr);
+    all.clear();
+    KirchhoffSettings ks;
+    ks.patchMembrane = true;
+    buildShell("r", *rest, m.tris, ids, pr, false, all, label, {}, &ks);
+    const MatX K = assembledStiffness(all, *rest);
+    Eigen::SelfAdjointEigenSolver<MatX> es(0.5 * (K + K.transpose()), Eigen::EigenvaluesOnly);
+    const VecX ev = es.eigenvalues();
+    int zeros = 0;
+    for (int i = 0; i < ev.size(); ++i) zeros += std::abs(ev[i]) < 1e-9 * ev[ev.size() - 1];
+    std::printf("%s: %d zero eigenvalues of %d; smallest nonzero / largest %.3e\n", rest == &m.X ? "flat" : "curved",
+                zeros, static_cast<int>(ev.size()), ev[6] / ev[ev.size() - 1]);
+    EXPECT_EQ(zeros, 6);
+    EXPECT_GT(ev[0], -1e-9 * ev[ev.size() - 1]);
   }
 }
