@@ -14,6 +14,8 @@
 //     damping: {alpha: 0.5, beta: 1e-4}  # optional Rayleigh: alpha M v [1/s], Kelvin-Voigt beta [s]
 //     ground: [hinge_edge]     # Physical Points or node groups whose nodes are fixed
 //     clamp: [root_edge]       # Physical Curves on the boundary: nodes fixed, edges clamped
+//     simply_supported: [edge] # Physical Curves on the boundary: nodes fixed, rotation free
+//     diaphragm: [ends]        # Physical Curves each on a plane: displacements in it held
 //     velocity: [0, 0, 1]      # optional initial velocity [m/s] of every free node, plus
 //     angular_velocity: [0, 0, 2]  # omega [rad/s] about center (default 0)
 // rest_shape: the membranes' rest state is always the mesh; `initial` (default) takes each
@@ -104,7 +106,7 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   r.allowKeys(el, path, {"name", "type", "mesh", "group", "size", "material", "E", "nu", "density", "thickness",
-                        "rest_shape", "bending", "membrane", "damping", "ground", "support", "symmetry", "attach", "clamp", "velocity", "angular_velocity", "center"});
+                        "rest_shape", "bending", "membrane", "damping", "ground", "support", "symmetry", "diaphragm", "attach", "clamp", "simply_supported", "velocity", "angular_velocity", "center"});
   ctx.requireSpatial(el, path, "a shell");
   auto props = std::make_shared<ShellProperties>();
   props->law.law = readMaterialLaw(r, el, path);
@@ -161,13 +163,13 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     const auto boundary = shellBoundaryEdges(tris);
     for (const MeshNodeGroup& cg : clampGroups) {
       std::vector<bool> in(mesh.positions.size(), false);
-      for (int i : cg.nodes) in[i] = clamped[i] = true;
+      for (int i : cg.nodes) in[i] = true, clamped[i] = clamped[i] || cg.clamp;
       bool hasEdge = false;
       for (const auto& [i, j] : boundary) hasEdge = hasEdge || (in[i] && in[j]);
       if (!hasEdge)
         r.fail(cg.at, cg.key, "group '" + cg.name + "' holds no boundary edge of the shell (no edge of a single triangle with both "
                               "nodes in the group); expected a Physical Curve on the boundary of " + group +
-                              " (a clamp holds the rotation about an edge)");
+                              (cg.clamp ? " (a clamp holds the rotation about an edge)" : " (a simple support is an edge condition; ground fixes points)"));
     }
   }
   KirchhoffSettings boundaries;

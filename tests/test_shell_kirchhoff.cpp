@@ -359,3 +359,44 @@ TEST(ShellKirchhoff, PatchMembraneDerivativesPatchTestAndRank) {
     EXPECT_GT(ev[0], -1e-9 * ev[ev.size() - 1]);
   }
 }
+
+namespace {
+/// The Scordelis-Lo roof (tests/scenes/shell/roof.geo, Gmsh size 50/8, bending: kirchhoff,
+/// linear) with the end conditions `ends`: the free edge's midside vertical displacement [m].
+double coarseRoof(const std::string& ends) {
+  std::ostringstream text;
+  text << "dimension: 3\ngravity: [0, 0, -10]\nelements:\n  - {name: shell, type: shell, mesh: roof.geo, group: shell, "
+       << "size: 6.25, E: 4.32e8, nu: 0.0, density: 36, thickness: 0.25, bending: kirchhoff, membrane: patch, " << ends
+       << "}\nconstraints:\n  - {name: a0, type: prescribed_coordinate, node: midside, axis: x, function: {type: constant, value: 0}}\n"
+       << "  - {name: a1, type: prescribed_coordinate, node: midside2, axis: x, function: {type: constant, value: 0}}\n"
+       << "static: {linear: true}\n";
+  const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+  const Model& m = *sc.model;
+  const VecX qs = test::staticEquilibrium(m, 1e-14);
+  const int node = m.nodeIndex("midside");
+  return qs[m.dof(node, 2)] - m.nodes[node].position.z();
+}
+}  // namespace
+
+// Edge keys: a diaphragm (its plane from the group, or given by `normal`) holds what a support
+// of the two in-plane axes holds; simply_supported what ground holds (Kirchhoff plate).
+TEST(ShellKirchhoff, DiaphragmAndSimpleSupportKeys) {
+  const double ref = coarseRoof("support: [{group: ends, fix: [y, z]}]");
+  EXPECT_LT(ref, -0.1);  // the roof sags by about 0.3
+  EXPECT_NEAR(coarseRoof("diaphragm: [{group: ends, normal: x}]"), ref, 1e-9 * std::abs(ref));
+  EXPECT_NEAR(coarseRoof("diaphragm: [end0, end1]"), ref, 1e-9 * std::abs(ref));
+  // a clamp on the ends holds the rotation too: stiffer
+  EXPECT_GT(coarseRoof("clamp: [ends]"), ref + 0.01);
+  auto plate = [](const std::string& support) {
+    std::ostringstream text;
+    text << "dimension: 3\ngravity: [0, 0, -1]\nelements:\n  - {name: plate, type: shell, mesh: square.geo, group: plate, "
+         << "size: 0.1, E: 2e11, nu: 0.3, density: 7800, thickness: 0.01, bending: kirchhoff, " << support
+         << ": [edges]}\nstatic: {linear: true}\n";
+    const Scene sc = readSceneText(text.str(), test::sourceDir() + "/tests/scenes/shell/scene.yaml");
+    const VecX qs = test::staticEquilibrium(*sc.model, 1e-14);
+    return qs[sc.model->dof(sc.model->nodeIndex("centre"), 2)];
+  };
+  const double ground = plate("ground");
+  EXPECT_LT(ground, 0.0);
+  EXPECT_EQ(plate("simply_supported"), ground);
+}
