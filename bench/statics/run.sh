@@ -1,7 +1,8 @@
 #!/bin/bash
 # Mesh series of the Scordelis-Lo roof and the pinched cylinder through `flexsens static`
 # (bench/statics/results.md). usage: run.sh [WORKDIR] [FLEXSENS]; prints one line per mesh:
-# benchmark, N, nodes, displacement, reference, ratio, wall time.
+# benchmark, N, nodes, displacement, reference, ratio, wall time. Variables: MODES (nonlinear
+# linear), ROOF_N, CYL_N, EIGHTH_N (mesh lists), BENDING, MEMBRANE (shell_benchmarks.py).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 work=${1:-/tmp/flexsens_bench_statics}
