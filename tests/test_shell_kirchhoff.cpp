@@ -442,3 +442,63 @@ TEST(ShellKirchhoff, StaticSensitivitiesMatchCentralDifferencesOfSolutions) {
     EXPECT_LT(rel, 1e-5) << k;
   }
 }
+
+// A plane of symmetry (fixed tangent along the plane's normal) against the full model: a
+// clamped plate under a uniform load, meshed as a half and as that half plus its mirror image.
+// Near the plane the half's quadratic fits take other nodes than the full mesh's (no mirrored
+// ghosts), so the two discrete models differ, by less as the mesh is refined: measured 0.69%
+// and 0.067% of the largest deflection (h divided by 4); both above Timoshenko's 0.00126532 q
+// a^4 / D (+20%, +1.4%).
+double symmetryDifference(int nx, int ny) {
+  const PlateMesh half = irregularPlate(nx, ny, 0.5, 1.0, 4);
+  PlateMesh full = half;
+  std::vector<int> mirror(half.X.size());
+  for (size_t i = 0; i < half.X.size(); ++i) {
+    if (std::abs(half.X[i].x() - 0.5) < 1e-12) { mirror[i] = static_cast<int>(i); continue; }
+    mirror[i] = static_cast<int>(full.X.size());
+    full.X.emplace_back(1.0 - half.X[i].x(), half.X[i].y(), 0.0);
+  }
+  for (const auto& t : half.tris) full.tris.push_back({mirror[t[0]], mirror[t[2]], mirror[t[1]]});
+  auto deflections = [](const PlateMesh& m, bool symmetric) {
+    std::vector<int> ids(m.X.size());
+    for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+    std::vector<bool> fixed(m.X.size(), false);
+    KirchhoffSettings ks;
+    for (const auto& [i, j] : shellBoundaryEdges(m.tris)) {
+      const bool onPlane = symmetric && std::abs(m.X[i].x() - 0.5) < 1e-12 && std::abs(m.X[j].x() - 0.5) < 1e-12;
+      ks.boundary[{i, j}] = {true, onPlane ? Eigen::Vector3d(Eigen::Vector3d::UnitX()) : Eigen::Vector3d::Zero(), 0.0};
+      if (!onPlane) fixed[i] = fixed[j] = true;
+    }
+    std::vector<std::unique_ptr<Element>> els;
+    buildShell("p", m.X, m.tris, ids, plateProps(1e6, 0.3, 0.02, false), false, els,
+               [](int i) { return std::to_string(i); }, {}, &ks);
+    MatX K, M;
+    VecX unit;
+    std::vector<int> zdof;
+    flexsens::test::transverseMatrices(els, m.X, fixed, K, M, zdof, &unit);
+    const VecX w = K.ldlt().solve(VecX(-unit));
+    VecX out = VecX::Zero(m.X.size());
+    for (size_t i = 0; i < m.X.size(); ++i)
+      if (zdof[i] >= 0) out[i] = w[zdof[i]];
+    return out;
+  };
+  const VecX wh = deflections(half, true), wf = deflections(full, false);
+  double err = 0;
+  for (size_t i = 0; i < half.X.size(); ++i) err = std::max(err, std::abs(wh[i] - wf[i]));
+  EXPECT_GT(wf.lpNorm<Eigen::Infinity>(), 0.0);
+  // Timoshenko & Woinowsky-Krieger: 0.00126532 q a^4 / D, q = rho t (unit gravity) = 20 Pa,
+  // D = 0.73260 N m: 3.4543e-2 m; from above (Morley-like)
+  const double ref = 0.00126532 * 20.0 / (1e6 * 0.02 * 0.02 * 0.02 / (12 * (1 - 0.09)));
+  for (const double w : {wf.lpNorm<Eigen::Infinity>(), wh.lpNorm<Eigen::Infinity>()}) {
+    EXPECT_GT(w, ref);
+    EXPECT_LT(w, 1.25 * ref);
+  }
+  return err / wf.lpNorm<Eigen::Infinity>();
+}
+
+TEST(ShellKirchhoff, SymmetryPlaneConvergesToTheFullModel) {
+  const double coarse = symmetryDifference(5, 6), fine = symmetryDifference(20, 24);
+  std::printf("half against full plate: %.3e, %.3e of the largest deflection\n", coarse, fine);
+  EXPECT_LT(coarse, 0.02);
+  EXPECT_LT(fine, 0.25 * coarse);
+}
