@@ -1,5 +1,7 @@
-// A discrete shell from a triangle mesh: one ShellTriangle (membrane, mass) per triangle and
-// one ShellHinge (bending) per interior edge, the edge shared by exactly two triangles.
+// A shell from a triangle mesh: one ShellTriangle (membrane, mass) per triangle and either (the
+// discrete shell) one ShellHinge (bending) per interior edge, the edge shared by exactly two
+// triangles, or (bending: kirchhoff) one ShellKirchhoffBending per triangle
+// (elements/ShellKirchhoff.hpp), with an optional patch membrane (elements/ShellPatchMembrane.hpp).
 // Boundary edges (one triangle) carry no hinge: a free or simply supported edge (the
 // rotation about it costs nothing), unless both its nodes are clamped: then a ShellClampHinge
 // (elements/ShellClampHinge.hpp) holds its triangle's rotation about it. An edge of three or

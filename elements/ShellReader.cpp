@@ -11,6 +11,7 @@
 //     thickness: 0.002         # [m]
 //     rest_shape: initial      # or flat: hinges at rest when flat (dihedral angle 0)
 //     bending: hinges          # or kirchhoff (elements/ShellKirchhoff.hpp); default hinges
+//     membrane: cst            # or patch (kirchhoff only: elements/ShellPatchMembrane.hpp)
 //     damping: {alpha: 0.5, beta: 1e-4}  # optional Rayleigh: alpha M v [1/s], Kelvin-Voigt beta [s]
 //     ground: [hinge_edge]     # Physical Points or node groups whose nodes are fixed
 //     clamp: [root_edge]       # Physical Curves on the boundary: nodes fixed, edges clamped
@@ -26,7 +27,8 @@
 // boundary edge of the mesh with both nodes in a clamp group gets a ShellClampHinge
 // (elements/ShellClampHinge.hpp) holding its triangle's rest orientation (slope zero across the
 // edge); a group with no such edge (a point, an interior curve, a curve of another surface) is
-// an error.
+// an error. With bending: kirchhoff the clamped and symmetry-plane boundary edges hold the
+// tangent across the edge instead (KirchhoffBoundaries), the other boundary edges are free.
 #include <algorithm>
 #include <map>
 
