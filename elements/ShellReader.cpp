@@ -11,7 +11,7 @@
 //     thickness: 0.002         # [m]
 //     rest_shape: initial      # or flat: hinges at rest when flat (dihedral angle 0)
 //     bending: hinges          # or kirchhoff (elements/ShellKirchhoff.hpp); default hinges
-//     membrane: cst            # or patch (kirchhoff only: elements/ShellPatchMembrane.hpp)
+//     membrane: patch          # or cst; default patch with kirchhoff (elements/ShellPatchMembrane.hpp), cst with hinges
 //     damping: {alpha: 0.5, beta: 1e-4}  # optional Rayleigh: alpha M v [1/s], Kelvin-Voigt beta [s]
 //     ground: [hinge_edge]     # Physical Points or node groups whose nodes are fixed
 //     clamp: [root_edge]       # Physical Curves on the boundary: nodes fixed, edges clamped
@@ -131,11 +131,11 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     if (b == "kirchhoff") kirchhoff = true;
     else if (b != "hinges") r.fail(el["bending"], path + ".bending", "expected hinges or kirchhoff; got '" + b + "'");
   }
-  bool patchMembrane = false;
+  bool patchMembrane = kirchhoff;  // the default membrane: patch with kirchhoff, cst with hinges
   if (el["membrane"]) {
     const std::string mk = r.text(el["membrane"], path + ".membrane");
-    if (mk == "patch") patchMembrane = true;
-    else if (mk != "cst") r.fail(el["membrane"], path + ".membrane", "expected cst or patch; got '" + mk + "'");
+    patchMembrane = mk == "patch";
+    if (!patchMembrane && mk != "cst") r.fail(el["membrane"], path + ".membrane", "expected cst or patch; got '" + mk + "'");
     if (patchMembrane && !kirchhoff)
       r.fail(el["membrane"], path + ".membrane", "membrane: patch needs bending: kirchhoff (its fits); expected cst with bending: hinges");
   }

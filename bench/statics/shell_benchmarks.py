@@ -16,14 +16,15 @@ whose diaphragm ends hold the two in-plane displacement components of each end n
 
 usage: shell_benchmarks.py roof|cylinder|eighth N OUTDIR
 The environment variables BENDING (hinges or kirchhoff, default hinges) and MEMBRANE (cst or
-patch, default cst) pick the shell's `bending:` and `membrane:`.
+patch, default patch with kirchhoff, cst with hinges) pick the shell's `bending:` and
+`membrane:`.
 """
 import math
 import os
 import sys
 
 BENDING = os.environ.get("BENDING", "hinges")
-MEMBRANE = os.environ.get("MEMBRANE", "cst")
+MEMBRANE = os.environ.get("MEMBRANE", "patch" if BENDING == "kirchhoff" else "cst")
 
 
 def lattice(nx, ns, lx, ls, periodic):
