@@ -97,8 +97,8 @@ void fixMeshGroups(SceneContext& ctx, const YAML::Node& el, const std::string& p
   auto groupNodes = [&](const YAML::Node& at, const std::string& key, const std::string& g) {
     return meshGroupNodes(r, mesh, group, at, key, g);
   };
-  for (const char* fixKey : {"ground", "clamp"}) {
-    const bool isClamp = std::string(fixKey) == "clamp";
+  for (const char* fixKey : {"ground", "clamp", "simply_supported"}) {
+    const bool isClamp = std::string(fixKey) != "ground";
     if (!el[fixKey] || (isClamp && !clamp)) continue;
     const YAML::Node gl = el[fixKey];
     r.requireList(gl, path + "." + fixKey);
@@ -109,7 +109,7 @@ void fixMeshGroups(SceneContext& ctx, const YAML::Node& el, const std::string& p
         m.nodes[ids[i]].ground = true;
         m.nodes[ids[i]].velocity = VecX::Zero(d);
       }
-      if (isClamp) clamp->push_back({gl[k], key, g, nodes});
+      if (isClamp) clamp->push_back({gl[k], key, g, nodes, std::string(fixKey) == "clamp"});
     }
   }
 }

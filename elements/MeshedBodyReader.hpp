@@ -23,6 +23,7 @@ struct MeshNodeGroup {
   YAML::Node at;
   std::string key, name;
   std::vector<int> nodes;
+  bool clamp = true;  ///< false: a shell's simply_supported group (nodes fixed, rotation free)
 };
 
 /// A plane of symmetry of a meshed body: the group's mesh nodes, the unit normal, a point [m].
@@ -37,7 +38,8 @@ struct SymmetryPlane {
 /// when at the same place), then the keys `ground`, `velocity`, `angular_velocity`, `center`.
 /// A planar scene takes x, y of a mesh in the plane z = 0. clamp (shell): when given, the key
 /// `clamp` too, a list of groups whose nodes are fixed as by `ground`; its entries are returned
-/// there (the caller adds what a clamp holds beyond the nodes).
+/// there (the caller adds what a clamp holds beyond the nodes), and the key `simply_supported`
+/// (nodes fixed, rotation free) with clamp = false.
 std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
                               const BodyMesh& mesh, const YAML::Node& meshKey, const std::string& group,
                               std::vector<MeshNodeGroup>* clamp = nullptr, std::vector<SymmetryPlane>* planes = nullptr);
@@ -46,8 +48,10 @@ std::vector<int> addMeshNodes(SceneContext& ctx, const YAML::Node& el, const std
 std::vector<int> meshGroupNodes(const YamlReader& r, const BodyMesh& mesh, const std::string& group,
                                 const YAML::Node& at, const std::string& key, const std::string& g);
 
-/// The keys `support` ({group, fix: [axes]}) and `symmetry` ({group, normal}): support rows on
-/// the group's free nodes (elements/SupportReader.cpp); symmetry planes go to `planes` when given.
+/// The keys `support` ({group, fix: [axes]}), `symmetry` ({group, normal}) and, for shells,
+/// `diaphragm` (a group, or {group, normal}: the displacements in the group's plane held):
+/// support rows on the group's free nodes (elements/SupportReader.cpp); symmetry planes go to
+/// `planes` when given.
 void readSupports(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
                   const BodyMesh& mesh, const std::string& group, const std::vector<int>& ids,
                   std::vector<SymmetryPlane>* planes);

@@ -13,7 +13,7 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
                            const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                            const std::shared_ptr<ShellProperties>& props, bool flatRest,
                            std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                           const std::vector<bool>& clamped) {
+                           const std::vector<bool>& clamped, const KirchhoffSettings* kirchhoff) {
   ShellMeshCounts n;
   auto nodesOf = [&](const std::vector<int>& mesh) {
     std::string s;
@@ -37,6 +37,20 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
       const int a = t[j], b = t[(j + 1) % 3], c = t[(j + 2) % 3];
       edges[{std::min(a, b), std::max(a, b)}].push_back({static_cast<int>(k), c});
     }
+  }
+  if (kirchhoff) {
+    for (const auto& [e, wings] : edges) {
+      if (wings.size() == 1) ++n.boundaryEdges;
+      if (wings.size() > 2)
+        throw std::invalid_argument("shell " + name + ": the edge between nodes " + nodesOf({e.first, e.second}) +
+                                    " is shared by " + std::to_string(wings.size()) +
+                                    " triangles (a non-manifold edge); expected at most 2");
+    }
+    if (kirchhoff->patchMembrane)
+      for (auto it = out.end() - n.triangles; it != out.end(); ++it) static_cast<ShellTriangle&>(**it).disableMembrane();
+    n.kirchhoff = buildKirchhoffBending(name, rest, tris, ids, props, flatRest, out, label, kirchhoff->boundary,
+                                        kirchhoff->patchMembrane);
+    return n;
   }
   for (const auto& [e, wings] : edges) {
     if (wings.size() == 1) {

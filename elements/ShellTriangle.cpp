@@ -111,6 +111,7 @@ VecT<T> ShellTriangle::forceT(const LocalState& s, const VecT<T>& x, const VecT<
     if (hasV)
       for (int j = 0; j < 3; ++j) Q.template segment<3>(3 * i) -= (alpha * m * massShape(i, j)) * v.template segment<3>(3 * j);
   }
+  if (!membrane_) return Q;
   MatT<T> F = MatT<T>::Zero(3, 2);
   for (int i = 0; i < 3; ++i) F += x.template segment<3>(3 * i) * G_.row(i).template cast<T>();
   const MatT<T> E = 0.5 * (F.transpose() * F - MatT<T>::Identity(2, 2));
@@ -161,6 +162,7 @@ void ShellTriangle::force(const LocalState& s, VecX& Q) const {
   const Eigen::Map<const Membrane::Nodal> V(s.v.data());  // read only when hasV
   if (hasV && c.alpha != 0.0)  // sum_j (1 + delta_ij)/12 v_j = (v_i + sum_j v_j) / 12
     Qn -= (c.alpha * c.m / 12.0) * (V.colwise() + V.rowwise().sum());
+  if (!membrane_) return;
   const Eigen::Map<const Membrane::Grad> G(G_.data());
   const Membrane::Def F = Eigen::Map<const Membrane::Nodal>(s.x.data()) * G;
   material::PointStress<2> ps;
@@ -182,6 +184,7 @@ void ShellTriangle::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) c
   Kv.setZero();
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) Kv.block<3, 3>(3 * i, 3 * j).diagonal().setConstant(-c.alpha * c.m * massShape(i, j));
+  if (!membrane_) return;
   const Eigen::Map<const Membrane::Grad> G(G_.data());
   const Membrane::Def F = Eigen::Map<const Membrane::Nodal>(s.x.data()) * G;
   const double At = A_ * c.t;
@@ -226,6 +229,10 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
   if (s.gravity) Qn.colwise() += Eigen::Vector3d((dm / 3.0) * *s.gravity);
   if (hasV)  // sum_j (1 + delta_ij)/12 v_j = (v_i + sum_j v_j) / 12
     Qn -= ((dAlpha * c.m + c.alpha * dm) / 12.0) * (V.colwise() + V.rowwise().sum());
+  dM.setZero(9, 9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) dM.block<3, 3>(3 * i, 3 * j).diagonal().setConstant(dm * massShape(i, j));
+  if (!membrane_) return true;
   const Eigen::Map<const Membrane::Grad> G(G_.data());
   const Membrane::Def F = Eigen::Map<const Membrane::Nodal>(s.x.data()) * G;
   const Eigen::Matrix2d C = F.transpose() * F;
@@ -237,9 +244,6 @@ bool ShellTriangle::parameterDerivative(const LocalState& s, int k, VecX& dQ, Ma
                              dBeta * material::restElasticity<2>(c.mu, c.lamStar, Ed) +
                              c.beta * material::restElasticity<2>(dl.mu, dl.lam0, Ed);
   Membrane::subtractStressForce(A_, F, dT * S + c.t * dS, G, Qn);  // d(t F S)
-  dM.setZero(9, 9);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) dM.block<3, 3>(3 * i, 3 * j).diagonal().setConstant(dm * massShape(i, j));
   return true;
 }
 
@@ -248,7 +252,7 @@ double ShellTriangle::potential(const LocalState& s) const {
   const Coefficients c = coefficients(*s.p);
   const Membrane::Nodal X = Eigen::Map<const Membrane::Nodal>(s.x.data());
   const Membrane::Def F = X * Eigen::Map<const Membrane::Grad>(G_.data());
-  double U = A_ * c.t * material::pointEnergy<2>(props_->law, F.transpose() * F, c.mu, c.lam);
+  double U = membrane_ ? A_ * c.t * material::pointEnergy<2>(props_->law, F.transpose() * F, c.mu, c.lam) : 0.0;
   if (s.gravity) U -= (c.m / 3.0) * (Eigen::Vector3d(*s.gravity).transpose() * X).sum();  // minus gravity's work [J]
   return U;
 }

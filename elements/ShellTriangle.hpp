@@ -45,6 +45,10 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   std::vector<std::pair<std::string, Quantity*>> properties() override { return props_->properties(); }
 
   double restArea() const { return A_; }  ///< [m^2]
+  /// Mass, gravity and mass damping only: the membrane is another element's
+  /// (elements/ShellPatchMembrane.hpp, `membrane: patch`).
+  void disableMembrane() { membrane_ = false; }
+  bool hasMembrane() const { return membrane_; }
   /// For output, at s.x and the nominal values s.p: Green-Lagrange strain E and second
   /// Piola-Kirchhoff stress S as 3x3 tensors in the scene's axes (the rest plane's 2x2 ones
   /// rotated by the rest basis), the membrane Cauchy stress sigma = F S F^T / J (J the area
@@ -84,6 +88,7 @@ class ShellTriangle : public KernelElement<ShellTriangle> {
   double A_;      ///< rest area [m^2]
   MatX G_;        ///< dN_i/dX in the rest basis, 3 x 2 [1/m]
   MatX basis_;    ///< the rest basis (t1, t2) in the scene's axes, 3 x 2
+  bool membrane_ = true;  ///< false: no membrane stress (disableMembrane)
 };
 
 }  // namespace flexsens

@@ -3,8 +3,11 @@
 //   support:  [{group: edge, fix: [y, z]}]   the listed axes of every node of the group held
 //   symmetry: [{group: mid, normal: x}]      the group lies on a plane of symmetry; the normal
 //                                            displacement held (normal: an axis or a vector)
+//   diaphragm: [ends]                        (shells) the group's plane: its two in-plane
+//                                            displacements held, the normal one free
 // A shell's symmetry plane also holds the rotation it forbids (ShellReader.cpp adds the mirror
 // hinges); fixed (ground, clamp) nodes are skipped, they are held already.
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "constraints/Support.hpp"
@@ -55,6 +58,69 @@ MatX planeNormal(const SceneContext& ctx, const YAML::Node& n, const std::string
   return N;
 }
 
+/// The unit normal of the plane through points P (3D) and their largest distance from it [m];
+/// false when the points are (nearly) collinear: their plane is undetermined.
+bool fittedPlane(const std::vector<Eigen::Vector3d>& P, Eigen::Vector3d& normal) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& x : P) c += x / static_cast<double>(P.size());
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  for (const auto& x : P) S += (x - c) * (x - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(S);
+  normal = es.eigenvectors().col(0);
+  return es.eigenvalues()[1] > 1e-12 * es.eigenvalues()[2];
+}
+
+/// `diaphragm: [ends, {group: edge, normal: x}]` (3D): each free node's two displacement
+/// components normal to `normal` are held (a diaphragm rigid in its plane, free out of it; the
+/// rotation free). Without `normal` the group must lie on one plane, whose normal it takes
+/// (several parallel end sections, or a straight edge, need `normal`).
+void readDiaphragms(SceneContext& ctx, const YAML::Node& list, const std::string& path, const std::string& name,
+                    const BodyMesh& mesh, const std::string& group, const std::vector<int>& ids) {
+  const YamlReader& r = ctx.r;
+  Model& m = ctx.m;
+  r.requireList(list, path);
+  if (m.dim != 3) r.fail(list, path, "a diaphragm is a plane in a 3D scene; expected dimension: 3");
+  for (size_t k = 0; k < list.size(); ++k) {
+    const std::string key = at(path, k);
+    const bool named = list[k].IsScalar();
+    if (!named) r.allowKeys(list[k], key, {"group", "normal"});
+    const YAML::Node gNode = named ? list[k] : r.require(list[k], "group", key);
+    const std::string gKey = named ? key : key + ".group";
+    const std::string g = r.text(gNode, gKey);
+    const std::vector<int> nodes = meshGroupNodes(r, mesh, group, gNode, gKey, g);
+    std::vector<Eigen::Vector3d> P;
+    for (int i : nodes) P.push_back(m.nodes[ids[i]].position);
+    Eigen::Vector3d normal;
+    const bool given = !named && list[k]["normal"];
+    if (given) {
+      normal = planeNormal(ctx, list[k]["normal"], key + ".normal").row(0).transpose();
+    } else if (!fittedPlane(P, normal)) {
+      r.fail(gNode, gKey, "the nodes of group '" + g + "' lie on a line, so the diaphragm's plane is undetermined; "
+                          "expected {group: " + g + ", normal: <axis or vector>}");
+    }
+    double extent = 0.0;
+    for (const auto& x : P) extent = std::max(extent, (x - P[0]).norm());
+    for (size_t i = 0; i < P.size() && !given; ++i) {
+      const double off = normal.dot(P[i] - P[0]);
+      if (std::abs(off) > 1e-9 * std::max(1.0, extent))
+        r.fail(gNode, gKey, "node '" + m.nodes[ids[nodes[i]]].name + "' of group '" + g + "' lies " + fmtNumber(off) +
+                                " m off the diaphragm's plane through node '" + m.nodes[ids[nodes[0]]].name +
+                                "'; expected the group on one plane (or give {group, normal} for parallel sections)");
+    }
+    // two unit directions spanning the plane
+    const Eigen::Vector3d a = normal.unitOrthogonal(), b = normal.cross(a);
+    MatX N(2, 3);
+    N.row(0) = a.transpose();
+    N.row(1) = b.transpose();
+    for (int i : nodes) {
+      const Node& nd = m.nodes[ids[i]];
+      if (nd.ground) continue;
+      m.constraints.push_back(std::make_unique<SupportConstraint>(name + ".diaphragm" + std::to_string(k) + "(" + nd.name + ")",
+                                                                  ids[i], N, nd.position));
+    }
+  }
+}
+
 }  // namespace
 
 void readSupports(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
@@ -62,6 +128,7 @@ void readSupports(SceneContext& ctx, const YAML::Node& el, const std::string& pa
                   std::vector<SymmetryPlane>* planes) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
+  if (el["diaphragm"]) readDiaphragms(ctx, el["diaphragm"], path + ".diaphragm", name, mesh, group, ids);
   for (const char* listKey : {"support", "symmetry"}) {
     if (!el[listKey]) continue;
     const bool symmetry = std::string(listKey) == "symmetry";

@@ -1,7 +1,8 @@
 #!/bin/bash
 # Mesh series of the Scordelis-Lo roof and the pinched cylinder through `flexsens static`
 # (bench/statics/results.md). usage: run.sh [WORKDIR] [FLEXSENS]; prints one line per mesh:
-# benchmark, N, nodes, displacement, reference, ratio, wall time.
+# benchmark, N, nodes, displacement, reference, ratio, wall time. Variables: MODES (nonlinear
+# linear), ROOF_N, CYL_N, EIGHTH_N (mesh lists), BENDING, MEMBRANE (shell_benchmarks.py).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 work=${1:-/tmp/flexsens_bench_statics}
@@ -32,4 +33,5 @@ PY
 for mode in ${MODES:-nonlinear linear}; do
   for n in ${ROOF_N:-8 16 32 64 96}; do run roof "$n" midside_z 19.151111077974452 0.3024 "$mode"; done
   for n in ${CYL_N:-8 16 32 48 64}; do run cylinder "$n" top_z 300 1.8248e-5 "$mode"; done
+  for n in ${EIGHTH_N:-}; do run eighth "$n" top_z 300 1.8248e-5 "$mode"; done
 done

@@ -12,11 +12,19 @@ whose diaphragm ends hold the two in-plane displacement components of each end n
               at top and bottom of the middle section; full cylinder; N elements along L.
               Reference radial displacement under the load 1.8248e-5.
 
-usage: shell_benchmarks.py roof|cylinder N OUTDIR
+  eighth N    The pinched cylinder's eighth (symmetry planes x = L/2, y = 0, z = 0, load P/4).
+
+usage: shell_benchmarks.py roof|cylinder|eighth N OUTDIR
+The environment variables BENDING (hinges or kirchhoff, default hinges) and MEMBRANE (cst or
+patch, default patch with kirchhoff, cst with hinges) pick the shell's `bending:` and
+`membrane:`.
 """
 import math
 import os
 import sys
+
+BENDING = os.environ.get("BENDING", "hinges")
+MEMBRANE = os.environ.get("MEMBRANE", "patch" if BENDING == "kirchhoff" else "cst")
 
 
 def lattice(nx, ns, lx, ls, periodic):
@@ -48,25 +56,31 @@ def lattice(nx, ns, lx, ls, periodic):
 
 def write_msh(path, xyz, tris, points, ends):
     """Gmsh ASCII 2.2: Physical Surface 1 "shell", one Physical Point per (name, node), and
-    Physical Curve "ends": the diaphragm edges, as the segments (a, b) of `ends`."""
+    Physical Curves: "ends" (the diaphragm edges) as the segments (a, b) of `ends`, or one per
+    (name, segments) when `ends` is a dict."""
+    curves = ends if isinstance(ends, dict) else {"ends": ends}
     with open(path, "w") as f:
-        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n%d\n" % (2 + len(points)))
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n%d\n" % (1 + len(points) + len(curves)))
         f.write('2 1 "shell"\n')
         for k, (name, _) in enumerate(points):
             f.write('0 %d "%s"\n' % (k + 2, name))
-        ends_tag = len(points) + 2
-        f.write('1 %d "ends"\n' % ends_tag)
+        tags = {}
+        for k, name in enumerate(curves):
+            tags[name] = len(points) + 2 + k
+            f.write('1 %d "%s"\n' % (tags[name], name))
         f.write("$EndPhysicalNames\n$Nodes\n%d\n" % len(xyz))
         for i, p in enumerate(xyz):
             f.write("%d %.17g %.17g %.17g\n" % (i + 1, p[0], p[1], p[2]))
-        f.write("$EndNodes\n$Elements\n%d\n" % (len(tris) + len(points) + len(ends)))
+        nseg = sum(len(v) for v in curves.values())
+        f.write("$EndNodes\n$Elements\n%d\n" % (len(tris) + len(points) + nseg))
         eid = 1
         for k, (_, node) in enumerate(points):
             f.write("%d 15 2 %d %d %d\n" % (eid, k + 2, k + 1, node + 1))
             eid += 1
-        for a, b in ends:
-            f.write("%d 1 2 %d %d %d %d\n" % (eid, ends_tag, ends_tag, a + 1, b + 1))
-            eid += 1
+        for name, segs in curves.items():
+            for a, b in segs:
+                f.write("%d 1 2 %d %d %d %d\n" % (eid, tags[name], tags[name], a + 1, b + 1))
+                eid += 1
         for t in tris:
             f.write("%d 2 2 1 1 %d %d %d\n" % (eid, t[0] + 1, t[1] + 1, t[2] + 1))
             eid += 1
@@ -95,7 +109,7 @@ def roof(n, outdir):
     lines = ["# Scordelis-Lo roof, %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)" % (n, ns, len(xyz)),
              "dimension: 3", "gravity: [0, 0, -10]", "elements:",
              "  - {name: shell, type: shell, mesh: roof_%d.msh, group: shell, E: 4.32e8, nu: 0.0," % n,
-             "     density: 36, thickness: 0.25, support: [{group: ends, fix: [y, z]}]}", "constraints:"]
+             "     density: 36, thickness: 0.25, bending: %s, membrane: %s, support: [{group: ends, fix: [y, z]}]}" % (BENDING, MEMBRANE), "constraints:"]
     # the axial rigid motion: the free edges' middle nodes hold x (zero by symmetry)
     for k, node in enumerate((mid, rows[ns][n // 2])):
         lines.append("  - {name: axial%d, type: prescribed_coordinate, node: %s, axis: x, "
@@ -120,7 +134,7 @@ def cylinder(n, outdir):
     lines = ["# Pinched cylinder with diaphragms, %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)"
              % (n, ns, len(xyz)), "dimension: 3", "gravity: [0, 0, 0]", "elements:",
              "  - {name: shell, type: shell, mesh: cylinder_%d.msh, group: shell, E: 3.0e6, nu: 0.3," % n,
-             "     density: 1, thickness: 3.0, support: [{group: ends, fix: [y, z]}]}",
+             "     density: 1, thickness: 3.0, bending: %s, membrane: %s, support: [{group: ends, fix: [y, z]}]}" % (BENDING, MEMBRANE),
              "  - {name: P_top, type: point_force, node: top, force: [0, 0, -1]}",
              "  - {name: P_bottom, type: point_force, node: bottom, force: [0, 0, 1]}", "constraints:"]
     # the axial rigid motion: the loaded points hold x (zero by symmetry)
@@ -135,8 +149,37 @@ def cylinder(n, outdir):
     return path, len(xyz)
 
 
+def eighth(n, outdir):
+    """An eighth of the pinched cylinder: x in [0, L/2] (diaphragm at x = 0, symmetry plane x =
+    L/2), the quarter circle from the top (theta = 0, plane y = 0) to the side (theta = 90 deg,
+    plane z = 0), P/4 at the top of the middle section; N elements along the full length L."""
+    R, L = 300.0, 600.0
+    ls = math.pi / 2 * R
+    nx = n // 2
+    ns = max(2, 2 * round(ls / (L / n * math.sqrt(3) / 2) / 2))
+    nodes, rows, tris = lattice(nx, ns, L / 2, ls, False)
+    xyz = [(x, R * math.sin(s / R), R * math.cos(s / R)) for x, s in nodes]
+    top = rows[0][-1]
+    first = [r[0] for r in rows]
+    last = [r[-1] for r in rows]
+    curves = {"ends": list(zip(first[:-1], first[1:])), "mid": list(zip(last[:-1], last[1:])),
+              "crown": list(zip(rows[0][:-1], rows[0][1:])), "side": list(zip(rows[ns][:-1], rows[ns][1:]))}
+    write_msh(os.path.join(outdir, "eighth_%d.msh" % n), xyz, tris, [("top", top)], curves)
+    lines = ["# Pinched cylinder, an eighth: %d x %d lattice, %d nodes (bench/statics/shell_benchmarks.py)"
+             % (nx, ns, len(xyz)), "dimension: 3", "gravity: [0, 0, 0]", "elements:",
+             "  - {name: shell, type: shell, mesh: eighth_%d.msh, group: shell, E: 3.0e6, nu: 0.3," % n,
+             "     density: 1, thickness: 3.0, bending: %s, membrane: %s, support: [{group: ends, fix: [y, z]}]," % (BENDING, MEMBRANE),
+             "     symmetry: [{group: mid, normal: x}, {group: crown, normal: y}, {group: side, normal: z}]}",
+             "  - {name: P_top, type: point_force, node: top, force: [0, 0, -0.25]}",
+             "static: {load_steps: 1}", "outputs:", "  - {name: top_z, node: top, component: z}"]
+    path = os.path.join(outdir, "eighth_%d.yaml" % n)
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path, len(xyz)
+
+
 if __name__ == "__main__":
     kind, n, outdir = sys.argv[1], int(sys.argv[2]), sys.argv[3]
     os.makedirs(outdir, exist_ok=True)
-    path, nn = (roof if kind == "roof" else cylinder)(n, outdir)
+    path, nn = {"roof": roof, "cylinder": cylinder, "eighth": eighth}[kind](n, outdir)
     print(path, nn)
