@@ -130,6 +130,11 @@ class SceneContext {
     for (auto& [k, q] : props) bind(item + "." + k, q);
   }
   std::map<std::string, std::vector<Quantity*>> bindings;
+  /// Bodies that some parameter binds per element (`per: element`), known before the
+  /// elements are read: their readers give each element its own properties ...
+  std::set<std::string> perElementBodies;
+  /// ... and list them here, "<body>.<property>" -> one quantity per element, in element order.
+  std::map<std::string, std::vector<Quantity*>> elementBindings;
 
  private:
   std::map<std::string, int> nodeIndex_;

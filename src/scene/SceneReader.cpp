@@ -168,6 +168,34 @@ void readItems(SceneContext& ctx, const YAML::Node& list, const std::string& key
   }
 }
 
+/// `per: element`: parameters <name>[0] ... <name>[k-1], one per element of the body, each
+/// bound to that element's property (the reader gave each its own: perElementBodies).
+void addPerElementParameters(SceneContext& ctx, const YAML::Node& pn, const std::string& path, const Parameter& family,
+                             const CaseSelection* sel) {
+  const YamlReader& r = ctx.r;
+  const std::string per = r.text(pn["per"], path + ".per");
+  if (per != "element") r.fail(pn["per"], path + ".per", "expected element, got '" + per + "'");
+  const auto it = ctx.elementBindings.find(family.boundTo);
+  if (it == ctx.elementBindings.end()) {
+    const std::string of = family.boundTo.substr(0, family.boundTo.find('.'));
+    if (ctx.bindings.count(family.boundTo))
+      r.fail(pn["per"], path + ".per", "per: element binds a property of each cell of a solid; '" + of +
+                                           "' is not a solid (shells, beams and cables take whole-body parameters for now)");
+    r.fail(pn["property"], path + ".property", "'" + family.boundTo + "' is no property of a solid's elements");
+  }
+  if (sel && !sel->params.count(family.name)) return;  // not a parameter of this case
+  Model& m = ctx.m;
+  for (size_t i = 0; i < it->second.size(); ++i) {
+    Parameter par = family;
+    par.name = family.name + "[" + std::to_string(i) + "]";
+    par.boundTo = family.boundTo + "[" + std::to_string(i) + "]";
+    par.nominal = it->second[i]->constant;
+    if (it->second[i]->param >= 0) r.fail(pn, path, "'" + family.boundTo + "' is bound to another parameter already");
+    it->second[i]->param = int(m.parameters.size());
+    m.parameters.push_back(par);
+  }
+}
+
 /// parameters: each binds one property of an element or constraint (or a gravity component).
 /// With a case selected, only the case's parameters become model parameters.
 void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelection* sel) {
@@ -178,13 +206,17 @@ void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelecti
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node pn = list[i];
     const std::string path = at("parameters", i);
-    r.allowKeys(pn, path, {"name", "of", "property"});
+    r.allowKeys(pn, path, {"name", "of", "property", "per"});
     Parameter par;
     par.name = r.text(r.require(pn, "name", path), path + ".name");
     if (!seen.insert(par.name).second) r.fail(pn["name"], path + ".name", "duplicate parameter name '" + par.name + "'");
     const std::string of = r.text(r.require(pn, "of", path), path + ".of");
     const std::string prop = r.text(r.require(pn, "property", path), path + ".property");
     par.boundTo = of + "." + prop;
+    if (pn["per"]) {
+      addPerElementParameters(ctx, pn, path, par, sel);
+      continue;
+    }
     auto it = ctx.bindings.find(par.boundTo);
     if (of == "gravity") {
       if (axisIndex(m, prop) < 0)
@@ -317,6 +349,10 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
           (item["type"].Scalar() == "solid" || item["type"].Scalar() == "shell"))
         meshedBody = true;
   if (root["nodes"] || !(root["geometry"] || meshedBody)) readNodes(ctx, r.require(root, "nodes", ""));
+  // Bodies with per-element parameters, before their elements are read (checked later).
+  if (root["parameters"] && root["parameters"].IsSequence())
+    for (const auto& pn : root["parameters"])
+      if (pn.IsMap() && pn["per"] && pn["of"] && pn["of"].IsScalar()) ctx.perElementBodies.insert(pn["of"].Scalar());
   if (root["elements"] && root["elements"].IsSequence()) requireSegmentMemory(ctx, root["elements"]);
   if (root["elements"]) readItems(ctx, root["elements"], "elements", "element", elementKinds());
   for (const auto& finish : ctx.afterElements) finish();
