@@ -272,6 +272,55 @@ objectives:
   }
 }
 
+// ------------------------------------------------------------------ (c'') statics
+/// A planar cantilever of 8 beam segments, clamped, tip load Fy; parameters E and Fy.
+std::string cantilever(const std::string& statics, double P) {
+  std::ostringstream s;
+  s << "dimension: 2\nnodes:\n  - {name: root, position: [0, 0], ground: true}\n";
+  for (int i = 1; i <= 8; ++i) s << "  - {name: n" << i << ", position: [" << i / 8.0 << ", 0]}\n";
+  s << "elements:\n  - {name: beam, type: beam, clamp: start, E: 2.0e9, density: 1000, section: {side: 0.01}, nodes: [root";
+  for (int i = 1; i <= 8; ++i) s << ", n" << i;
+  s << "]}\n  - {name: load, type: point_force, node: n8, force: [0, " << -P << "]}\n"
+    << "parameters:\n  - {name: E, of: beam, property: E}\n  - {name: Fy, of: load, property: y}\n"
+    << "static: " << statics << "\noutputs:\n  - {name: tip_y, node: n8, component: y}\n"
+    << "objectives:\n  - {name: tip, terminal: {output: tip_y}}\n  - {name: twice, sum: [{objective: tip, weight: 2}]}\n";
+  return s.str();
+}
+
+TEST(Gradient, StaticTerminalObjectiveOfALinearCantilever) {
+  // Linear statics: K u = f with K proportional to E and f to Fy, so J = tip_y is exactly
+  // proportional to Fy / E: dJ/dE = -J/E, dJ/dFy = J/Fy.
+  const Scene sc = readSceneText(cantilever("{linear: true}", 2.0), "cantilever.yaml");
+  const GradientResult r = gradients(sc, "adjoint");
+  ASSERT_EQ(r.objectives.size(), 2u);
+  const double J = r.objectives[0].value;
+  EXPECT_LT(J, 0.0);
+  EXPECT_NEAR(r.objectives[0].gradient[0], -J / 2.0e9, 1e-9 * std::abs(J / 2.0e9));
+  EXPECT_NEAR(r.objectives[0].gradient[1], J / -2.0, 1e-9 * std::abs(J / 2.0));
+  EXPECT_DOUBLE_EQ(r.objectives[1].value, 2.0 * J);
+  EXPECT_EQ(r.method, "static");
+}
+
+TEST(Gradient, StaticTerminalObjectiveAgainstDifferencesOfEquilibria) {
+  // Large deflection (load steps): dJ/dp against central differences of whole static solves.
+  const std::string text = cantilever("{load_steps: 5}", 20.0);
+  const Scene sc = readSceneText(text, "cantilever.yaml");
+  const GradientResult r = gradients(sc, "adjoint");
+  const VecX p0 = sc.model->nominalParameters();
+  for (int k = 0; k < 2; ++k) {
+    const double d = 1e-5 * std::abs(p0[k]);
+    double J[2];
+    for (int s = 0; s < 2; ++s) {
+      const Scene moved = readSceneText(text, "cantilever.yaml", "", {{k ? "Fy" : "E", p0[k] + (s ? -d : d)}});
+      J[s] = gradients(moved, "adjoint").objectives[0].value;
+    }
+    const double nd = (J[0] - J[1]) / (2 * d);
+    EXPECT_NEAR(r.objectives[0].gradient[k], nd, 1e-6 * std::abs(nd)) << k;
+  }
+  // A static-only scene has no time: an integral objective is an input error when read.
+  EXPECT_THROW(readSceneText(text + "  - {name: area, integral: {output: tip_y}}\n", "cantilever.yaml"), InputError);
+}
+
 // ------------------------------------------------------------------ (d) errors
 TEST(Gradient, MethodWithoutAdjointIsAnInputErrorNamingThoseWithOne) {
   const Scene sc = sceneWith(kFreeFall, "fall.yaml", "", 0.0, "idas");

@@ -11,6 +11,7 @@
 #include "app/Objectives.hpp"
 #include "core/MemoryBudget.hpp"
 #include "integrators/FixedStepper.hpp"
+#include "integrators/Static.hpp"
 #include "integrators/StepEnd.hpp"
 #include "integrators/TimeGrid.hpp"
 #include "output/Energy.hpp"
@@ -112,10 +113,60 @@ MatX adjointGradients(const Scene& sc, const Assembler& as, const VecX& p, const
   return G;
 }
 
+/// Static scenes: every objective asked for is terminal (or a sum of terminals).
+void requireStaticObjectives(const Scene& sc, const std::vector<size_t>& sel) {
+  for (size_t i : sel) {
+    const ObjectiveSpec& o = sc.objectives[i];
+    std::vector<int> leaves;
+    if (o.kind == "sum") for (const auto& [k, w] : o.terms) leaves.push_back(k);
+    else leaves.push_back(int(i));
+    for (int k : leaves)
+      if (sc.objectives[size_t(k)].kind != "terminal" || sc.objectives[size_t(k)].at >= 0)
+        throw InputError(sc.objectives[size_t(k)].where + ": objective '" + sc.objectives[size_t(k)].name +
+                         "': a static equilibrium has terminal objectives only, without at (the last load step)");
+  }
+}
+
+/// The equilibrium of `flexsens static` (load-stepped, or linear) and its exact sensitivities,
+/// as one sample on a grid of no steps; dJ/dp = sum_k dJ/do_k do_k/dp.
+MatX staticGradients(const Scene& sc, const std::vector<size_t>& sel, MatX& samples, GradientResult& res) {
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const VecX p = m.nominalParameters();
+  StaticSettings set;
+  set.steps = sc.statics.loadSteps;
+  set.stepLoadFactor = true;
+  set.maxIterations = sc.integrator.maxNewtonIterations;
+  set.tol = sc.integrator.newtonTol;
+  StaticReport rep;
+  State x;
+  x.q = sc.statics.linear ? solveLinearStatic(as, p, m.initialPositions(), set.time, &rep)
+                          : solveStatic(as, p, m.initialPositions(), set, &rep);
+  x.v = VecX::Zero(m.n);
+  const StaticSensitivity d = sc.statics.linear ? linearStaticSensitivities(as, m.initialPositions(), x.q, rep.lambda, p)
+                                                : staticSensitivities(as, x.q, rep.lambda, p);
+  res.stats.steps = rep.steps;
+  res.stats.newtonIterations = rep.iterations;
+  res.stats.maxConstraintViolation = rep.constraintNorm;
+  const Eigen::Index nout = Eigen::Index(sc.outputs.size());
+  samples.resize(1, nout);
+  MatX sens(nout, p.size());
+  for (Eigen::Index k = 0; k < nout; ++k) {
+    samples(0, k) = sc.outputs[size_t(k)].value(m, x);
+    for (Eigen::Index j = 0; j < p.size(); ++j) {
+      State dj;
+      dj.q = d.qp.col(j);
+      dj.v = VecX::Zero(m.n);
+      sens(k, j) = sc.outputs[size_t(k)].derivative(m, x, dj);
+    }
+  }
+  const std::vector<MatX> dJ = sampleDerivatives(sc, sel, StepGrid{}, samples);
+  MatX G(p.size(), Eigen::Index(sel.size()));
+  for (size_t i = 0; i < sel.size(); ++i) G.col(Eigen::Index(i)) = sens.transpose() * dJ[i].row(0).transpose();
+  return G;
+}
+
 void requireGradientMethod(const Scene& sc, const std::string& method) {
-  if (!sc.hasIntegrator)
-    throw InputError(sc.file + ": key 'integrator': flexsens gradient needs a time integration; a static-only "
-                     "scene's gradients are not available yet");
   if (method != "adjoint" && method != "forward")
     throw InputError("option --method: expected adjoint or forward, got '" + method + "'");
   const std::string& type = sc.integrator.type;
@@ -131,9 +182,22 @@ void requireGradientMethod(const Scene& sc, const std::string& method) {
 
 GradientResult computeGradients(const Scene& sc, const GradientRequest& req) {
   const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<size_t> sel = selectedObjectives(sc, req.objective);
+  if (req.statics || !sc.hasIntegrator) {
+    requireStaticObjectives(sc, sel);
+    GradientResult res;
+    res.method = "static";
+    for (const auto& par : sc.model->parameters) res.parameters.push_back(par.name);
+    MatX samples;
+    const MatX G = staticGradients(sc, sel, samples, res);
+    for (size_t i = 0; i < sel.size(); ++i)
+      res.objectives.push_back({sc.objectives[sel[i]].name, objectiveValue(sc.objectives, sel[i], StepGrid{}, samples),
+                                G.col(Eigen::Index(i))});
+    res.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
   sc.requireDynamics();
   requireGradientMethod(sc, req.method);
-  const std::vector<size_t> sel = selectedObjectives(sc, req.objective);
   for (size_t i : sel) checkObjectiveTimes(sc.objectives[i], sc.integrator.tEnd);
   const Model& m = *sc.model;
   Assembler as(m);
@@ -163,7 +227,7 @@ std::string gradientJson(const GradientResult& r, bool single) {
   const IntegratorStats& s = r.stats;
   stats << "{\"status\": " << jsonString(r.status);
   if (!r.reason.empty()) stats << ", \"reason\": " << jsonString(r.reason);
-  stats << ", \"method\": " << jsonString(r.method) << ", \"steps\": " << r.steps
+  stats << ", \"method\": " << jsonString(r.method) << ", \"steps\": " << (r.method == "static" ? r.stats.steps : r.steps)
         << ", \"newton_iterations\": " << s.newtonIterations << ", \"factorizations\": " << s.factorizations
         << ", \"max_constraint_violation\": " << jsonNumber(s.maxConstraintViolation);
   if (r.method == "adjoint") {
@@ -191,11 +255,13 @@ std::string gradientJson(const GradientResult& r, bool single) {
 
 GradientResult gradientCommand(const GradientRequest& req) {
   Scene sc = readRequestedScene(req.scenePath, req.sceneText, req.caseName);
-  applyOptions(sc, req.options);
+  const bool statics = req.statics || !sc.hasIntegrator;
+  if (!statics) applyOptions(sc, req.options);
   const std::string outDir = req.outDir.empty() ? sc.output.directory + "-gradient" : req.outDir;
   // Input errors first, then the folder (locked, refused when it holds what flexsens did not write).
-  requireGradientMethod(sc, req.method);
-  selectedObjectives(sc, req.objective);
+  const std::vector<size_t> sel = selectedObjectives(sc, req.objective);
+  if (statics) requireStaticObjectives(sc, sel);
+  else requireGradientMethod(sc, req.method);
   RunDirectory dir(outDir, "gradient");
   GradientResult res = computeGradients(sc, req);
   res.directory = outDir;

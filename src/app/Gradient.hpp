@@ -20,6 +20,9 @@ struct GradientRequest {
   std::string method = "adjoint";  ///< adjoint | forward
   std::string outDir;      ///< "" <output.directory>-gradient
   long checkpointEvery = 0;  ///< adjoint: k; 0 from the memory budget
+  /// The static equilibrium (`flexsens static`'s last load step) instead of the motion; a scene
+  /// without `integrator` is always static.
+  bool statics = false;
   RunOptions options;      ///< --integrator, --t-end, --dt, ... (the run's overrides)
   std::string sceneText;   ///< non-empty: the scene itself (readRequestedScene)
 };
@@ -42,7 +45,9 @@ struct GradientResult {
 
 /// Computes the gradients of the scene's objectives (or the one named) without writing.
 /// InputError for a scene without objectives, an unknown objective or method, an integrator
-/// without the method (IDAS, maggi_rk4), a static-only scene.
+/// without the method (IDAS, maggi_rk4), an objective other than terminal on a static scene.
+/// Statics: J at the equilibrium, dJ/dp from the exact static sensitivities (one
+/// factorization of the equilibrium's matrix, a solve per parameter), whatever the method.
 GradientResult computeGradients(const Scene& scene, const GradientRequest& request);
 /// gradient.json's text: one object {"objective", "value", "gradient", "statistics"}, or an
 /// array of them when no objective was named.

@@ -135,6 +135,7 @@ void addGradient(CLI::App& app, GradientArgs& a) {
   g->add_option("--method", a.request.method, "adjoint (default: one backward sweep for all parameters) | forward (the forward sensitivities)");
   g->add_option("--out", a.request.outDir, "output directory (default: <output.directory>-gradient)");
   g->add_option("--case", a.request.caseName, "a PIM case of the scene (default: the plain model with every parameter, least-norm initial sensitivities)");
+  g->add_flag("--static", a.request.statics, "the static equilibrium of flexsens static (its last load step; terminal objectives), by its exact static sensitivities");
   g->add_option("--checkpoint-every", a.request.checkpointEvery, "adjoint: keep every k-th state and recompute the rest (default: from the memory budget)")->check(CLI::Range(1L, 1000000000L));
   g->add_option("--integrator", a.integrator, "trapezoidal | bdf1 | generalized_alpha | midpoint (default: the scene's)");
   g->add_option("--t-end", a.tEnd, "final time [s]");
@@ -155,7 +156,8 @@ int executeGradient(GradientArgs& a) {
   const GradientResult r = gradientCommand(a.request);
   std::cout << "gradient written to " << r.directory << "/gradient.json (" << r.objectives.size() << " objective"
             << (r.objectives.size() == 1 ? "" : "s") << ", " << r.parameters.size() << " parameters, method " << r.method
-            << ")\n  " << r.steps << " steps, " << r.wallSeconds << " s wall\n";
+            << ")\n  " << (r.method == "static" ? r.stats.steps : r.steps) << (r.method == "static" ? " load steps, " : " steps, ")
+            << r.wallSeconds << " s wall\n";
   for (const auto& o : r.objectives) std::cout << "  " << o.name << " = " << o.value << "\n";
   if (r.status != "complete") {
     std::cerr << "flexsens: SUSPECT result (gradient.json status 'suspect'): " << r.reason << "\n";
