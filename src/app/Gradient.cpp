@@ -9,6 +9,7 @@
 #include "app/Commands.hpp"
 #include "app/EnergyAudit.hpp"
 #include "app/Objectives.hpp"
+#include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "integrators/FixedStepper.hpp"
 #include "integrators/Static.hpp"
@@ -263,7 +264,14 @@ GradientResult gradientCommand(const GradientRequest& req) {
   if (statics) requireStaticObjectives(sc, sel);
   else requireGradientMethod(sc, req.method);
   RunDirectory dir(outDir, "gradient");
-  GradientResult res = computeGradients(sc, req);
+  GradientResult res;
+  try {
+    res = computeGradients(sc, req);
+  } catch (const Interrupted& e) {  // nothing to write: a gradient needs the whole sweep
+    std::ostringstream during;
+    during << "during flexsens gradient (at t = " << e.t << " s)";
+    throw InterruptedBeforeRun(e.signal, during.str());
+  }
   res.directory = outDir;
   const std::string path = dir.staging() + "/gradient.json";
   errno = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
 #include "core/SparseLU.hpp"
 #include "integrators/FixedStepper.hpp"
@@ -248,6 +249,7 @@ MatX DiscreteAdjoint::backward(int objectives, const Source& source) {
       source(c + j, states[size_t(j)], mu.q, mu.v);
       step.apply(states[size_t(j - 1)], states[size_t(j)], c + j, mu, gradient);
       st_.backwardSteps++;
+      if (const int sig = interruptSignal()) throw Interrupted(sig, states[size_t(j - 1)].t);
     }
     if (seg == 0) source(0, states[0], mu.q, mu.v);
   }
