@@ -4,7 +4,8 @@
 //      forward one to 1e-8 relative and central differences of whole runs to 1e-5, for the plain
 //      model (least-norm initial sensitivities) and the PIM case F2; checkpointing changes
 //      nothing; BDF-1, generalized-alpha and the midpoint rule agree the same way;
-//  (c) a mass on a massless beam (massless coordinates in every step);
+//  (c) a mass on a massless beam (massless coordinates in every step); per-element thicknesses of
+//      a solid plate; angle and angle-rate outputs; static equilibria (linear, load-stepped);
 //  (d) the errors: a method without an adjoint, projections, an unknown objective.
 #include <gtest/gtest.h>
 
@@ -230,7 +231,7 @@ TEST(Gradient, MasslessCoordinatesAdjointEqualsForwardAndDifferences) {
   }
 }
 
-// ------------------------------------------------------------------ (c') per-element parameters
+// ------------------------------------------------------------------ (c1) per-element parameters
 TEST(Gradient, PerElementThicknessOfASolidPlate) {
   // A planar cantilever plate of linear triangles under gravity, one thickness parameter per
   // cell: the adjoint equals the forward gradient for every cell, and central differences of
@@ -272,7 +273,52 @@ objectives:
   }
 }
 
-// ------------------------------------------------------------------ (c'') statics
+// ------------------------------------------------------------------ (c3) angle outputs
+const char* kChain3d = R"(dimension: 3
+gravity: [0, 0, -9.81]
+nodes:
+  - {name: O, position: [0, 0, 0], ground: true}
+  - {name: P, position: [0, 0, 1]}
+  - {name: Q, position: [1, 0, 1]}
+  - {name: R, position: [1, 1, 1.2]}
+elements:
+  - {name: b1, type: rigid_bar, nodes: [O, P], mass: 1}
+  - {name: b2, type: rigid_bar, nodes: [P, Q], mass: 1}
+  - {name: b3, type: rigid_bar, nodes: [Q, R], mass: 1}
+parameters:
+  - {name: L3, of: b3, property: length}
+  - {name: m2, of: b2, property: mass}
+integrator: {type: trapezoidal, t_end: 0.5, dt: 0.005}
+outputs:
+  - {name: th, angle: {axis: [O, P], from: [P, Q], to: [Q, R]}}
+  - {name: thd, angle: {axis: [O, P], from: [P, Q], to: [Q, R]}, quantity: velocity}
+objectives:
+  - {name: rate_end, terminal: {output: thd}}
+  - {name: th_sq, integral: {output: th, power: 2}}
+)";
+
+TEST(Gradient, AngleAndAngleRateOutputs) {
+  // The outputs' gradients in q and v (the adjoint's sources) against their derivative along a
+  // direction, then the adjoint against the forward gradient through them.
+  const Scene sc = sceneWith(kChain3d, "chain.yaml", "");
+  const Model& m = *sc.model;
+  Assembler as(m);
+  const StateWithSens start = initialState(as, m.nominalParameters());
+  State x = start.x, dx;
+  x.v = VecX::LinSpaced(m.n, -1.0, 2.0);
+  dx.q = VecX::LinSpaced(m.n, 0.3, -0.7);
+  dx.v = VecX::LinSpaced(m.n, 1.1, 0.2);
+  for (const OutputSpec& o : sc.outputs) {
+    VecX gq = VecX::Zero(m.n), gv = VecX::Zero(m.n);
+    o.addGradient(m, x, 1.0, gq, gv);
+    EXPECT_NEAR(gq.dot(dx.q) + gv.dot(dx.v), o.derivative(m, x, dx), 1e-13) << o.name;
+  }
+  const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint", 11);
+  EXPECT_LT(worstRelative(adj, fw, 1e-6), 1e-8);
+  EXPECT_GT(adj.objectives[0].gradient.cwiseAbs().maxCoeff(), 1e-3);  // the rate does depend on L3
+}
+
+// ------------------------------------------------------------------ (c2) statics
 /// A planar cantilever of 8 beam segments, clamped, tip load Fy; parameters E and Fy.
 std::string cantilever(const std::string& statics, double P) {
   std::ostringstream s;
