@@ -209,6 +209,9 @@ GradientResult computeGradients(const Scene& sc, const GradientRequest& req) {
   res.method = req.method;
   res.steps = g.steps;
   for (const auto& par : m.parameters) res.parameters.push_back(par.name);
+  // The outputs at every step, and dJ/do of each objective asked for: (N + 1) x outputs each.
+  requireMemory(doubles(double(g.steps + 1) * double(sc.outputs.size()) * double(sel.size() + 1)),
+                "the objectives' output samples at every step", "use fewer steps (a larger dt) or fewer outputs");
   OutputSampler sampler(sc, g.steps);
   const EnergyMeter meter(as, p);
   EnergyAudit audit(meter, sampler, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
