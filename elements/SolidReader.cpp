@@ -113,7 +113,7 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
       if (own)
         for (auto& [k, q] : cellProps->properties()) {
           ctx.bind(name + "." + k, q);
-          ctx.elementBindings[name + "." + k].push_back(q);
+          ctx.elementBindings[name + "." + k].emplace_back(q, int(m.elements.size()) - 1);
         }
     } catch (const std::invalid_argument& e) {
       std::string gn;

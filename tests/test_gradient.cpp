@@ -10,6 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +24,7 @@
 
 #include "app/Gradient.hpp"
 #include "app/Objectives.hpp"
+#include "output/GradientVtu.hpp"
 #include "integrators/FixedStepper.hpp"
 #include "integrators/InitialState.hpp"
 #include "integrators/TimeGrid.hpp"
@@ -260,6 +266,26 @@ objectives:
   EXPECT_EQ(m.parameters[3].boundTo, "plate.thickness[3]");
   const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint", 9);
   EXPECT_LT(worstRelative(adj, fw, 1e-6 * fw.objectives[0].gradient.cwiseAbs().maxCoeff()), 1e-8);
+  // gradient.vtu: each solid cell carries the gradient of its own parameter.
+  const std::string vtu = testing::TempDir() + "flexsens_gradient_field.vtu";
+  writeGradientVtu(vtu, vtu, m, {{"tip_end", adj.objectives[0].gradient}});
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(vtu.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  auto* field = grid->GetCellData()->GetArray("dtip_end/dt");
+  auto* ids = grid->GetCellData()->GetArray("element_id");
+  ASSERT_NE(field, nullptr);
+  ASSERT_NE(ids, nullptr);
+  int matched = 0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    for (size_t k = 0; k < m.parameters.size(); ++k)
+      if (m.parameters[k].element == int(ids->GetTuple1(c))) {
+        EXPECT_EQ(field->GetTuple1(c), adj.objectives[0].gradient[Eigen::Index(k)]);
+        ++matched;
+      }
+  EXPECT_EQ(matched, cells);
+  std::filesystem::remove(vtu);
   Eigen::Index root, tip;
   adj.objectives[0].gradient.cwiseAbs().maxCoeff(&root);
   adj.objectives[0].gradient.cwiseAbs().minCoeff(&tip);

@@ -16,6 +16,7 @@
 #include "integrators/StepEnd.hpp"
 #include "integrators/TimeGrid.hpp"
 #include "output/Energy.hpp"
+#include "output/GradientVtu.hpp"
 #include "output/ResultWriter.hpp"
 #include "output/RunDirectory.hpp"
 
@@ -282,6 +283,12 @@ GradientResult gradientCommand(const GradientRequest& req) {
   out << gradientJson(res, !req.objective.empty());
   out.close();
   if (!out) throw OutputError("cannot write " + outDir + "/gradient.json: " + std::strerror(errno ? errno : EIO));
+  if (hasPerElementParameters(*sc.model)) {  // where the design matters, for ParaView
+    std::vector<std::pair<std::string, VecX>> fields;
+    for (const auto& o : res.objectives) fields.emplace_back(o.name, o.gradient);
+    writeGradientVtu(dir.staging() + "/gradient.vtu", outDir + "/gradient.vtu", *sc.model, fields);
+    res.field = true;
+  }
   dir.commit();
   return res;
 }

@@ -41,6 +41,7 @@ struct GradientResult {
   AdjointStatistics adjoint;    ///< method adjoint
   long steps = 0;
   double wallSeconds = 0.0;
+  bool field = false;  ///< gradient.vtu written (per-element parameters)
 };
 
 /// Computes the gradients of the scene's objectives (or the one named) without writing.

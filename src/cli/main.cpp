@@ -154,7 +154,8 @@ int executeGradient(GradientArgs& a) {
   if (!a.newtonMode.empty()) opt.newton = a.newtonMode;
   installInterruptHandlers();
   const GradientResult r = gradientCommand(a.request);
-  std::cout << "gradient written to " << r.directory << "/gradient.json (" << r.objectives.size() << " objective"
+  std::cout << "gradient written to " << r.directory << "/gradient.json" << (r.field ? " and gradient.vtu" : "") << " ("
+            << r.objectives.size() << " objective"
             << (r.objectives.size() == 1 ? "" : "s") << ", " << r.parameters.size() << " parameters, method " << r.method
             << ")\n  " << (r.method == "static" ? r.stats.steps : r.steps) << (r.method == "static" ? " load steps, " : " steps, ")
             << r.wallSeconds << " s wall\n";

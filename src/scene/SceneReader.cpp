@@ -186,12 +186,15 @@ void addPerElementParameters(SceneContext& ctx, const YAML::Node& pn, const std:
   if (sel && !sel->params.count(family.name)) return;  // not a parameter of this case
   Model& m = ctx.m;
   for (size_t i = 0; i < it->second.size(); ++i) {
+    const auto& [q, element] = it->second[i];
     Parameter par = family;
     par.name = family.name + "[" + std::to_string(i) + "]";
     par.boundTo = family.boundTo + "[" + std::to_string(i) + "]";
-    par.nominal = it->second[i]->constant;
-    if (it->second[i]->param >= 0) r.fail(pn, path, "'" + family.boundTo + "' is bound to another parameter already");
-    it->second[i]->param = int(m.parameters.size());
+    par.family = family.name;
+    par.element = element;
+    par.nominal = q->constant;
+    if (q->param >= 0) r.fail(pn, path, "'" + family.boundTo + "' is bound to another parameter already");
+    q->param = int(m.parameters.size());
     m.parameters.push_back(par);
   }
 }
