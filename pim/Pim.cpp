@@ -326,11 +326,11 @@ StateWithSens pimInitialState(const Assembler& as, const PimCase& c, const State
       checkDroppedRows(c, m, lam, sel, k, Ld * d.v + lv, scale, global, "velocity (q'_p0)",
                        nonRigid > 1e-10 * std::max(1.0, s.v.lpNorm<Eigen::Infinity>()) ? nonRigid : 0.0);
     }
-    solveAccelerationSensitivity(as, s, p, k, d);
     rep.qp.col(k) = d.q;
     rep.vp.col(k) = d.v;
     out.dp.push_back(d);
   }
+  solveAccelerationSensitivities(as, s, p, out.dp);  // a_p, lambda_p of every parameter, one factorization
   return out;
 }
 

@@ -118,9 +118,9 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
       d.v = VecX::Zero(as.n());
     }
     masslessSensitivity(as, s.x, p, kk, d);  // no-op without massless coordinates
-    solveAccelerationSensitivity(as, s.x, p, kk, d);
     s.dp.push_back(d);
   }
+  solveAccelerationSensitivities(as, s.x, p, s.dp);
   return s;
 }
 

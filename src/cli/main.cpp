@@ -1,5 +1,5 @@
 // flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`,
-// `flexsens modes SCENE`, `flexsens study`, `flexsens sweep SCENE` (cli/SweepCli.cpp). Exit codes: 0 success, 1 bad input (scene or
+// `flexsens modes SCENE`, `flexsens study`, `flexsens sweep SCENE` (cli/SweepCli.cpp), `flexsens gradient SCENE`. Exit codes: 0 success, 1 bad input (scene or
 // options), 2 numerical failure, 3 other error, 4 results could not be written or the output
 // folder was refused (it holds files flexsens did not write; nothing touched), 5 run completed
 // but suspect (energy audit), 6 the output folder is in use by another run of any kind (run,
@@ -13,6 +13,7 @@
 #include <iostream>
 
 #include "app/Commands.hpp"
+#include "app/Gradient.hpp"
 #include "cli/SweepCli.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
@@ -116,6 +117,53 @@ int executeStatic(StaticArgs& a) {
                                  : std::to_string(r.loadSteps) + " load steps, " + std::to_string(r.newtonIterations) +
                                        " Newton iterations")
             << ", |R|_inf = " << r.residualNorm << " N, |Phi|_inf = " << r.constraintNorm << "\n";
+  return 0;
+}
+
+// ------------------------------------------------------------------ gradient
+struct GradientArgs {
+  CLI::App* command = nullptr;
+  GradientRequest request;
+  std::string integrator, newtonMode;
+  double tEnd = 0, dt = 0, rhoInf = 0;
+};
+
+void addGradient(CLI::App& app, GradientArgs& a) {
+  auto* g = a.command = app.add_subcommand("gradient", "values of the scene's objectives and their gradients dJ/dp (gradient.json), by the discrete adjoint or the forward sensitivities");
+  g->add_option("scene", a.request.scenePath, "scene file (YAML)")->required();
+  g->add_option("--objective", a.request.objective, "the objective (default: every objective of the scene)");
+  g->add_option("--method", a.request.method, "adjoint (default: one backward sweep for all parameters) | forward (the forward sensitivities)");
+  g->add_option("--out", a.request.outDir, "output directory (default: <output.directory>-gradient)");
+  g->add_option("--case", a.request.caseName, "a PIM case of the scene (default: the plain model with every parameter, least-norm initial sensitivities)");
+  g->add_flag("--static", a.request.statics, "the static equilibrium of flexsens static (its last load step; terminal objectives), by its exact static sensitivities");
+  g->add_option("--checkpoint-every", a.request.checkpointEvery, "adjoint: keep every k-th state and recompute the rest (default: from the memory budget)")->check(CLI::Range(1L, 1000000000L));
+  g->add_option("--integrator", a.integrator, "trapezoidal | bdf1 | generalized_alpha | midpoint (default: the scene's)");
+  g->add_option("--t-end", a.tEnd, "final time [s]");
+  g->add_option("--dt", a.dt, "fixed step [s]");
+  g->add_option("--rho-inf", a.rhoInf, "generalized_alpha: spectral radius at infinity, 0..1");
+  g->add_option("--newton", a.newtonMode, "fixed-step Newton: full | modified");
+}
+
+int executeGradient(GradientArgs& a) {
+  RunOptions& opt = a.request.options;
+  const CLI::App& g = *a.command;
+  if (!a.integrator.empty()) opt.integrator = a.integrator;
+  if (g.count("--t-end")) opt.tEnd = a.tEnd;
+  if (g.count("--dt")) opt.dt = a.dt;
+  if (g.count("--rho-inf")) opt.rhoInf = a.rhoInf;
+  if (!a.newtonMode.empty()) opt.newton = a.newtonMode;
+  installInterruptHandlers();
+  const GradientResult r = gradientCommand(a.request);
+  std::cout << "gradient written to " << r.directory << "/gradient.json" << (r.field ? " and gradient.vtu" : "") << " ("
+            << r.objectives.size() << " objective"
+            << (r.objectives.size() == 1 ? "" : "s") << ", " << r.parameters.size() << " parameters, method " << r.method
+            << ")\n  " << (r.method == "static" ? r.stats.steps : r.steps) << (r.method == "static" ? " load steps, " : " steps, ")
+            << r.wallSeconds << " s wall\n";
+  for (const auto& o : r.objectives) std::cout << "  " << o.name << " = " << o.value << "\n";
+  if (r.status != "complete") {
+    std::cerr << "flexsens: SUSPECT result (gradient.json status 'suspect'): " << r.reason << "\n";
+    return 5;
+  }
   return 0;
 }
 
@@ -237,6 +285,7 @@ int main(int argc, char** argv) {
   ModesArgs modes;
   StudyArgs study;
   SweepArgs sweep;
+  GradientArgs gradient;
   addRun(app, run);
   addStatic(app, statik);
   addCheck(app, check);
@@ -244,7 +293,8 @@ int main(int argc, char** argv) {
   InputLimits limits;
   addStudy(app, study);
   addSweep(app, sweep);
-  addInputLimits({run.command, statik.command, check.command, modes.command, sweep.command}, limits);
+  addGradient(app, gradient);
+  addInputLimits({run.command, statik.command, check.command, modes.command, sweep.command, gradient.command}, limits);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -257,6 +307,7 @@ int main(int argc, char** argv) {
     if (*statik.command) return executeStatic(statik);
     if (*modes.command) return executeModes(modes);
     if (*check.command) return executeCheck(check);
+    if (*gradient.command) return executeGradient(gradient);
     return executeRun(run);
   } catch (...) {
     return reportFailure();

@@ -38,6 +38,10 @@ struct Parameter {
   std::string name;
   double nominal = 0.0;
   std::string boundTo;  ///< "element.property" description, for reports
+  /// `per: element`: the family's name (the parameter is family[i]) and the model element whose
+  /// property it is; "" and -1 otherwise.
+  std::string family;
+  int element = -1;
 };
 
 struct Model {

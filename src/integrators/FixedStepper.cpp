@@ -31,10 +31,14 @@ std::vector<int> masslessFor(const Assembler& as, const VecX& p, const Scheme& s
 }  // namespace
 
 FixedStepper::FixedStepper(const Assembler& as, const VecX& p, StateWithSens start, const IntegratorSettings& set)
+    : FixedStepper(as, p, std::move(start), set, 0, -1.0) {}
+
+FixedStepper::FixedStepper(const Assembler& as, const VecX& p, StateWithSens start, const IntegratorSettings& set,
+                           long firstStep, double runStart)
     : as_(as), p_(p), set_(set), sc_(set_), massless_(masslessFor(as, p_, sc_)),
-      nsteps_(fixedStepCount(set_.tEnd - start.x.t, set_.dt)), every_(frameEvery(set_)), t0_(start.x.t),
-      eq_(as, p_, sc_, st_.residualEvaluations), newton_(set_, as.n(), as.m(), st_), sens_(st_),
-      cur_(std::move(start)) {
+      nsteps_(fixedStepCount(set_.tEnd - (firstStep ? runStart : start.x.t), set_.dt)), every_(frameEvery(set_)),
+      t0_(firstStep ? runStart : start.x.t), eq_(as, p_, sc_, st_.residualEvaluations),
+      newton_(set_, as.n(), as.m(), st_), sens_(st_), step_(firstStep), cur_(std::move(start)) {
   // Velocity and acceleration projections (trapezoidal rule, generalized-alpha), on request.
   if (set_.projections) projection_ = std::make_unique<MotionProjection>(as_, p_, massless_);
   // Growth of the accelerations, for the failure message: the trapezoidal rule (generalized-

@@ -26,6 +26,10 @@ class FixedStepper {
   /// Checks the settings against the model (InputError: the midpoint rule with massless
   /// parts, t_end not a whole number of steps) and starts at `start`.
   FixedStepper(const Assembler& as, const VecX& p, StateWithSens start, const IntegratorSettings& set);
+  /// Resumes a run that began at runStart [s]: `start` is its state after firstStep steps (an
+  /// adjoint recomputing from a checkpoint takes the run's own step times, t0 + n dt).
+  FixedStepper(const Assembler& as, const VecX& p, StateWithSens start, const IntegratorSettings& set,
+               long firstStep, double runStart);
   FixedStepper(const FixedStepper&) = delete;
   FixedStepper& operator=(const FixedStepper&) = delete;
 

@@ -312,29 +312,71 @@ void solveAccelerations(const Assembler& as, State& s, const VecX& p) {
   s.lambda = x.tail(m);
 }
 
-void solveAccelerationSensitivity(const Assembler& as, const State& x, const VecX& p, int k,
-                                  State& d) {
+namespace {
+
+/// The right-hand side of [M Phi_q^T; Phi_q 0] (a_p, lambda_p) = rhs for parameter k, with the
+/// force Jacobians Kq = dQ/dq, Kv = dQ/dv at x.
+VecX accelerationSensitivityRhs(const Assembler& as, const State& x, const VecX& p, int k, const State& d,
+                                const SpMat& Kq, const SpMat& Kv) {
   const int n = as.n(), m = as.m();
-  as.setTime(x.t);
-  // dQ/dq q_p + dQ/dv v_p, from the sparse force Jacobians.
-  SparseAccumulator kq, kv;
-  kq.begin(n, n);
-  as.addForceJacobian(kq, x.q, x.v, p, -1.0, 0.0, 0, 0, 0);
-  kv.begin(n, n);
-  as.addForceJacobian(kv, x.q, x.v, p, 0.0, -1.0, 0, 0, 0);
   VecX rhs(n + m);
   rhs.head(n) = -(as.massParamDerivativeTimes(p, k, x.a) + as.hessianTimes(x.q, p, x.lambda, d.q) +
                   as.phiQParamDerivativeTransposeTimes(x.q, p, k, x.lambda) -
-                  kq.finish() * d.q - kv.finish() * d.v - as.forceParamDerivative(x.q, x.v, p, k));
+                  Kq * d.q - Kv * d.v - as.forceParamDerivative(x.q, x.v, p, k));
   if (m)
     rhs.tail(m) = -(as.hessianRowsTimes(x.q, p, x.a, d.q) + as.phiQParamDerivativeTimes(x.q, p, k, x.a) +
                     2.0 * as.hessianRowsTimes(x.q, p, x.v, d.v) +
                     // d/dp of the drivers' g = Phi_tt + 2 Phi_qt v: g_q q_p + 2 Phi_qt v_p + g_p
                     as.accelerationTimeTermsQTimes(x.q, x.v, p, d.q) + 2.0 * as.phiQTTimes(x.q, p, d.v) +
                     as.accelerationTimeTermsParamDerivative(x.q, x.v, p, k));
-  const VecX sol = solveAugmented(as, x.q, p, x.t, rhs);
+  return rhs;
+}
+
+/// dQ/dq and dQ/dv at x (the assembler at x.t).
+std::pair<SpMat, SpMat> forceJacobians(const Assembler& as, const State& x, const VecX& p) {
+  const int n = as.n();
+  SparseAccumulator kq, kv;
+  kq.begin(n, n);
+  as.addForceJacobian(kq, x.q, x.v, p, -1.0, 0.0, 0, 0, 0);
+  kv.begin(n, n);
+  as.addForceJacobian(kv, x.q, x.v, p, 0.0, -1.0, 0, 0, 0);
+  return {kq.finish(), kv.finish()};
+}
+
+}  // namespace
+
+void solveAccelerationSensitivity(const Assembler& as, const State& x, const VecX& p, int k,
+                                  State& d) {
+  const int n = as.n(), m = as.m();
+  as.setTime(x.t);
+  const auto [Kq, Kv] = forceJacobians(as, x, p);
+  const VecX sol = solveAugmented(as, x.q, p, x.t, accelerationSensitivityRhs(as, x, p, k, d, Kq, Kv));
   d.a = sol.head(n);
   d.lambda = sol.tail(m);
+}
+
+void solveAccelerationSensitivities(const Assembler& as, const State& x, const VecX& p, std::vector<State>& ds) {
+  if (ds.empty()) return;
+  const int n = as.n(), m = as.m();
+  as.setTime(x.t);
+  const auto [Kq, Kv] = forceJacobians(as, x, p);
+  MatX sol(n + m, Eigen::Index(ds.size()));
+  for (size_t k = 0; k < ds.size(); ++k)
+    sol.col(Eigen::Index(k)) = accelerationSensitivityRhs(as, x, p, int(k), ds[k], Kq, Kv);
+  bool factored = true;
+  try {
+    factorAugmented(as, x.q, p, x.t).solve(sol);
+  } catch (const NumericalError&) {
+    if (masslessCoordinates(as, p).empty()) throw;
+    factored = false;
+  }
+  for (size_t k = 0; k < ds.size(); ++k) {
+    // With massless coordinates the matrix is singular: column by column as solveAugmented.
+    const VecX c = factored ? VecX(sol.col(Eigen::Index(k)))
+                            : solveAugmented(as, x.q, p, x.t, VecX(sol.col(Eigen::Index(k))));
+    ds[k].a = c.head(n);
+    ds[k].lambda = c.tail(m);
+  }
 }
 
 }  // namespace flexsens

@@ -51,4 +51,28 @@ double OutputSpec::derivative(const Model& m, const State& x, const State& dx) c
   return rate ? dx.v[d] : dx.q[d];
 }
 
+void OutputSpec::addGradient(const Model& m, const State& x, double weight, Eigen::Ref<VecX> gq,
+                             Eigen::Ref<VecX> gv) const {
+  if (!angle.empty()) {
+    // Scatter a gradient over the angle's 18 coordinates onto the model's (ground: none).
+    auto scatter = [&](const VecX& g18, Eigen::Ref<VecX> into) {
+      for (size_t a = 0; a < angle.size(); ++a)
+        for (int c = 0; c < 3; ++c)
+          if (const int d = m.dof(angle[a], c); d >= 0) into[d] += weight * g18[Eigen::Index(3 * a + c)];
+    };
+    const VecX xq = angleCoordinates(m, angle, x.q, false);
+    VecX g;
+    jointAngleT<double>(xq, &g);
+    if (!rate) return scatter(g, gq);
+    // theta' = grad theta . v: d/dq = Hess(theta) v (symmetric), d/dv = grad theta.
+    const VecX v = angleCoordinates(m, angle, x.v, true);
+    scatter(jointAngleHessian(xq) * v, gq);
+    scatter(g, gv);
+    return;
+  }
+  const int d = m.dof(node, component);
+  if (d < 0) return;
+  (rate ? gv : gq)[d] += weight;
+}
+
 }  // namespace flexsens

@@ -10,6 +10,7 @@
 #include "integrators/Settings.hpp"
 #include "integrators/State.hpp"
 #include "pim/Pim.hpp"
+#include "scene/Objective.hpp"
 
 namespace flexsens {
 
@@ -29,6 +30,9 @@ struct OutputSpec {
   /// sensitivity d x/dp: the column d<name>/dp of series.csv).
   double value(const Model& m, const State& x) const;
   double derivative(const Model& m, const State& x, const State& dx) const;
+  /// The gradient of the value with respect to q and v at x, times `weight`, added into gq and
+  /// gv (derivative(m, x, dx) = gq . dx.q + gv . dx.v): the adjoint's source terms.
+  void addGradient(const Model& m, const State& x, double weight, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv) const;
 };
 
 /// How sensitivities are computed (the speed-versus-accuracy choice).
@@ -61,6 +65,7 @@ struct Scene {
   StaticSceneSettings statics;
   SensitivitySettings sensitivity;
   std::vector<OutputSpec> outputs;
+  std::vector<ObjectiveSpec> objectives;  ///< `objectives:` (scene/Objective.hpp)
   OutputSettings output;
   std::vector<std::string> caseNames;  ///< all PIM cases the scene defines, in order
   /// Meshed body -> its Physical Points and node groups (name, node count), for `check`.

@@ -135,6 +135,12 @@ class SceneContext {
     for (auto& [k, q] : props) bind(item + "." + k, q);
   }
   std::map<std::string, std::vector<Quantity*>> bindings;
+  /// Bodies that some parameter binds per element (`per: element`), known before the
+  /// elements are read: their readers give each element its own properties ...
+  std::set<std::string> perElementBodies;
+  /// ... and list them here, "<body>.<property>" -> per element, in order, its quantity and its
+  /// index in the model's elements.
+  std::map<std::string, std::vector<std::pair<Quantity*, int>>> elementBindings;
 
  private:
   std::map<std::string, int> nodeIndex_;

@@ -38,6 +38,8 @@ int nodeComponent(const SceneContext& ctx, int nd, const YAML::Node& n, const st
 void readStaticSettings(const YamlReader& r, const YAML::Node& in, StaticSceneSettings& s);
 void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSettings& s);
 void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc);
+/// `objectives:` (scene/Objective.hpp), after the outputs and the integrator.
+void readObjectives(SceneContext& ctx, const YAML::Node& list, Scene& sc);
 void readOutputSettings(const YamlReader& r, const YAML::Node& o, Scene& sc);
 
 }  // namespace flexsens

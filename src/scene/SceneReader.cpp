@@ -186,6 +186,37 @@ void readItems(SceneContext& ctx, const YAML::Node& list, const std::string& key
   }
 }
 
+/// `per: element`: parameters <name>[0] ... <name>[k-1], one per element of the body, each
+/// bound to that element's property (the reader gave each its own: perElementBodies).
+void addPerElementParameters(SceneContext& ctx, const YAML::Node& pn, const std::string& path, const Parameter& family,
+                             const CaseSelection* sel) {
+  const YamlReader& r = ctx.r;
+  const std::string per = r.text(pn["per"], path + ".per");
+  if (per != "element") r.fail(pn["per"], path + ".per", "expected element, got '" + per + "'");
+  const auto it = ctx.elementBindings.find(family.boundTo);
+  if (it == ctx.elementBindings.end()) {
+    const std::string of = family.boundTo.substr(0, family.boundTo.find('.'));
+    if (ctx.bindings.count(family.boundTo))
+      r.fail(pn["per"], path + ".per", "per: element binds a property of each cell of a solid; '" + of +
+                                           "' is not a solid (shells, beams and cables take whole-body parameters for now)");
+    r.fail(pn["property"], path + ".property", "'" + family.boundTo + "' is no property of a solid's elements");
+  }
+  if (sel && !sel->params.count(family.name)) return;  // not a parameter of this case
+  Model& m = ctx.m;
+  for (size_t i = 0; i < it->second.size(); ++i) {
+    const auto& [q, element] = it->second[i];
+    Parameter par = family;
+    par.name = family.name + "[" + std::to_string(i) + "]";
+    par.boundTo = family.boundTo + "[" + std::to_string(i) + "]";
+    par.family = family.name;
+    par.element = element;
+    par.nominal = q->constant;
+    if (q->param >= 0) r.fail(pn, path, "'" + family.boundTo + "' is bound to another parameter already");
+    q->param = int(m.parameters.size());
+    m.parameters.push_back(par);
+  }
+}
+
 /// parameters: each binds one property of an element or constraint (or a gravity component).
 /// With a case selected, only the case's parameters become model parameters.
 void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelection* sel) {
@@ -196,13 +227,17 @@ void readParameters(SceneContext& ctx, const YAML::Node& list, const CaseSelecti
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node pn = list[i];
     const std::string path = at("parameters", i);
-    r.allowKeys(pn, path, {"name", "of", "property"});
+    r.allowKeys(pn, path, {"name", "of", "property", "per"});
     Parameter par;
     par.name = r.text(r.require(pn, "name", path), path + ".name");
     if (!seen.insert(par.name).second) r.fail(pn["name"], path + ".name", "duplicate parameter name '" + par.name + "'");
     const std::string of = r.text(r.require(pn, "of", path), path + ".of");
     const std::string prop = r.text(r.require(pn, "property", path), path + ".property");
     par.boundTo = of + "." + prop;
+    if (pn["per"]) {
+      addPerElementParameters(ctx, pn, path, par, sel);
+      continue;
+    }
     auto it = ctx.bindings.find(par.boundTo);
     if (of == "gravity") {
       if (axisIndex(m, prop) < 0)
@@ -313,7 +348,8 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   SceneContext ctx(file, m);
   const YamlReader& r = ctx.r;
   r.allowKeys(root, "", {"dimension", "plane", "gravity", "geometry", "nodes", "elements", "constraints",
-                         "parameters", "integrator", "static", "outputs", "output", "description", "cases", "limits"});
+                         "parameters", "integrator", "static", "outputs", "objectives", "output", "description", "cases",
+                         "limits"});
   const YAML::Node dimNode = r.require(root, "dimension", "");
   m.dim = r.integer(dimNode, "dimension");
   if (m.dim != 2 && m.dim != 3) r.fail(dimNode, "dimension", "expected 2 or 3");
@@ -334,6 +370,10 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
           (item["type"].Scalar() == "solid" || item["type"].Scalar() == "shell"))
         meshedBody = true;
   if (root["nodes"] || !(root["geometry"] || meshedBody)) readNodes(ctx, r.require(root, "nodes", ""));
+  // Bodies with per-element parameters, before their elements are read (checked later).
+  if (root["parameters"] && root["parameters"].IsSequence())
+    for (const auto& pn : root["parameters"])
+      if (pn.IsMap() && pn["per"] && pn["of"] && pn["of"].IsScalar()) ctx.perElementBodies.insert(pn["of"].Scalar());
   if (root["elements"] && root["elements"].IsSequence()) requireSegmentMemory(ctx, root["elements"]);
   if (root["elements"]) readItems(ctx, root["elements"], "elements", "element", elementKinds());
   for (const auto& finish : ctx.afterElements) finish();
@@ -363,6 +403,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (sc.hasIntegrator) readIntegrator(r, r.require(root, "integrator", ""), sc.integrator);
   if (sc.hasIntegrator && !root["integrator"]["newton"] && hasMeshedBody(m)) sc.integrator.newton = "modified";
   if (root["outputs"]) readOutputs(ctx, root["outputs"], sc);
+  if (root["objectives"]) readObjectives(ctx, root["objectives"], sc);
   readOutputSettings(r, root["output"], sc);
   if (m.n == 0) r.fail(root["nodes"], "nodes", "the scene has no free node: nothing can move");
   requireMass(ctx, root, sc);

@@ -7,12 +7,7 @@
 
 namespace flexsens {
 
-namespace {
-
-/// Parses a CSV of (t, f) rows. Errors name file:line and what was expected (thrown as the
-/// text of an InputError that the caller prefixes with the scene's key), never the line's
-/// text: the file may be one the user did not mean to share.
-void parseTable(const std::string& text, const std::string& shown, std::vector<double>& t, std::vector<double>& f) {
+void parseTimeTable(const std::string& text, const std::string& shown, std::vector<double>& t, std::vector<double>& f) {
   std::istringstream in(text);
   std::string line;
   int lineNo = 0;
@@ -51,8 +46,6 @@ void parseTable(const std::string& text, const std::string& shown, std::vector<d
     throw std::runtime_error("'" + shown + "' holds " + std::to_string(t.size()) +
                              " rows of 't, f'; a table needs at least two");
 }
-
-}  // namespace
 
 std::unique_ptr<TimeFunction> readTimeFunction(SceneContext& ctx, const YAML::Node& fn,
                                                const std::string& path, const std::string& item) {
@@ -95,7 +88,7 @@ std::unique_ptr<TimeFunction> readTimeFunction(SceneContext& ctx, const YAML::No
     const std::string full = sceneDataFile(r, fn["file"], path + ".file", name, limit);
     std::vector<double> t, v;
     try {
-      parseTable(readBoundedFile(full, limit, name), name, t, v);
+      parseTimeTable(readBoundedFile(full, limit, name), name, t, v);
     } catch (const std::runtime_error& e) {
       r.fail(fn["file"], path + ".file", e.what());
     }

@@ -1,0 +1,62 @@
+#include "output/GradientVtu.hpp"
+
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "output/VtuFrame.hpp"
+
+namespace flexsens {
+
+bool hasPerElementParameters(const Model& m) {
+  for (const auto& par : m.parameters)
+    if (par.element >= 0) return true;
+  return false;
+}
+
+void writeGradientVtu(const std::string& path, const std::string& shown, const Model& m,
+                      const std::vector<std::pair<std::string, VecX>>& gradients) {
+  StateWithSens s;  // the scene's positions, at rest
+  s.x.q = m.initialPositions();
+  s.x.v = VecX::Zero(m.n);
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = frameGrid(m, s);
+  auto* ids = vtkIntArray::SafeDownCast(grid->GetCellData()->GetArray("element_id"));
+  // family -> (element -> parameter)
+  std::map<std::string, std::map<int, int>> families;
+  for (size_t k = 0; k < m.parameters.size(); ++k)
+    if (m.parameters[k].element >= 0) families[m.parameters[k].family][m.parameters[k].element] = int(k);
+  for (const auto& [objective, g] : gradients)
+    for (const auto& [family, byElement] : families) {
+      vtkNew<vtkDoubleArray> a;
+      a->SetName(("d" + objective + "/d" + family).c_str());
+      a->SetNumberOfValues(grid->GetNumberOfCells());
+      for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+        const auto it = ids ? byElement.find(ids->GetValue(c)) : byElement.end();
+        a->SetValue(c, it == byElement.end() ? NAN : g[it->second]);
+      }
+      grid->GetCellData()->AddArray(a);
+    }
+  vtkNew<vtkXMLUnstructuredGridWriter> w;
+  w->SetFileName(path.c_str());
+  w->SetInputData(grid);
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();
+  errno = 0;
+  const int ok = w->Write();
+  const int err = errno;
+  struct stat st;
+  if (ok != 1 || w->GetErrorCode() != vtkErrorCode::NoError || ::stat(path.c_str(), &st) != 0 || st.st_size == 0)
+    throw OutputError("cannot write " + shown + ": " + (err ? std::strerror(err) : "VTK error code " + std::to_string(w->GetErrorCode())));
+}
+
+}  // namespace flexsens
