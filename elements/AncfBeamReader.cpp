@@ -34,8 +34,32 @@ void setGeneralSection(AncfBeamSection& sec, double A, double Iy, double Iz, dou
   sec.torsionScale = std::sqrt(J / (Iy + Iz));
 }
 
-/// section {area, Iy, Iz, J}, {diameter} (a circle) or {diameter, inner_diameter} (a tube).
+/// i_beam {height, width, web, flange}: an I section, its flanges (width x flange thick) across
+/// r_y, its web (web thick) along r_z; thin-walled torsion constant (2 b t_f^3 + (h - 2 t_f) t_w^3) / 3.
+void readIBeam(const YamlReader& r, const YAML::Node& n, const std::string& ip, AncfBeamSection& sec) {
+  r.requireMap(n, ip);
+  r.allowKeys(n, ip, {"height", "width", "web", "flange"});
+  const double h = r.positive(r.require(n, "height", ip), ip + ".height");
+  const double b = r.positive(r.require(n, "width", ip), ip + ".width");
+  const double tw = r.positive(r.require(n, "web", ip), ip + ".web");
+  const double tf = r.positive(r.require(n, "flange", ip), ip + ".flange");
+  if (!(tw < b)) r.fail(n["web"], ip + ".web", "expected a web thinner than the flanges are wide (" + std::to_string(b) + ")");
+  if (!(2 * tf < h)) r.fail(n["flange"], ip + ".flange", "expected two flanges thinner than the height (" + std::to_string(h) + ")");
+  const double hw = h - 2 * tf;  // the web's height between the flanges
+  const double A = 2 * b * tf + hw * tw;
+  const double Iy = (b * h * h * h - (b - tw) * hw * hw * hw) / 12.0, Iz = (2 * tf * b * b * b + hw * tw * tw * tw) / 12.0;
+  setGeneralSection(sec, A, Iy, Iz, std::min((2 * b * tf * tf * tf + hw * tw * tw * tw) / 3.0, Iy + Iz));
+}
+
+/// section {area, Iy, Iz, J}, {diameter} (a circle), {diameter, inner_diameter} (a tube) or
+/// {i_beam: {...}}.
 void readGeneralSection(const YamlReader& r, const YAML::Node& s, const std::string& sp, AncfBeamSection& sec) {
+  if (s["i_beam"]) {
+    for (const char* k : {"area", "Iy", "Iz", "J", "diameter", "inner_diameter"})
+      if (s[k]) r.fail(s[k], sp + "." + k, "give either i_beam or area, Iy, Iz, J or diameter, not both");
+    readIBeam(r, s["i_beam"], sp + ".i_beam", sec);
+    return;
+  }
   if (s["diameter"]) {
     for (const char* k : {"area", "Iy", "Iz", "J"})
       if (s[k]) r.fail(s[k], sp + "." + k, "give either diameter (a circle or tube) or area, Iy, Iz, J, not both");
@@ -60,7 +84,7 @@ void readRotaryInertia(const YamlReader& r, const YAML::Node& el, const std::str
   const YAML::Node n = el["rotary_inertia"];
   if (!n) return;
   if (!sec.general)
-    r.fail(n, path + ".rotary_inertia", "belongs to a general section (area, Iy, Iz or diameter): a rectangle's "
+    r.fail(n, path + ".rotary_inertia", "belongs to a general section (area, Iy, Iz, diameter or i_beam): a rectangle's "
                                         "rotary inertia follows from density, width and height");
   const VecX v = r.vector(n, path + ".rotary_inertia", 2);
   if (!(v[0] > 0 && v[1] > 0)) r.fail(n, path + ".rotary_inertia", "expected two positive values [rho Iy, rho Iz] in kg m");
@@ -80,10 +104,10 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
   const std::string sp = path + ".section";
   const YAML::Node s = r.require(el, "section", path);
   r.requireMap(s, sp);
-  r.allowKeys(s, sp, {"side", "width", "height", "area", "Iy", "Iz", "J", "diameter", "inner_diameter"});
+  r.allowKeys(s, sp, {"side", "width", "height", "area", "Iy", "Iz", "J", "diameter", "inner_diameter", "i_beam"});
   const bool rectangle = s["side"] || s["width"] || s["height"];
-  if (rectangle && (s["area"] || s["Iy"] || s["Iz"] || s["J"] || s["diameter"]))
-    r.fail(s, sp, "give one kind of section: side, width and height, area with Iy, Iz (and J), or diameter");
+  if (rectangle && (s["area"] || s["Iy"] || s["Iz"] || s["J"] || s["diameter"] || s["i_beam"]))
+    r.fail(s, sp, "give one kind of section: side, width and height, area with Iy, Iz (and J), diameter, or i_beam");
   if (!rectangle) readGeneralSection(r, s, sp, *sec);
   else if (s["side"]) {
     if (s["width"] || s["height"]) r.fail(s, sp, "give either side (square section) or width and height, not both");

@@ -240,3 +240,31 @@ TEST(AncfBeamFrames, JointSensitivitiesMatchCentralDifferences) {
   for (const std::string joint : {"type: weld", "type: hinge, axis: [0, 1, 0]"})
     for (const double e : frameRunErrors(joint)) EXPECT_LT(e, 1e-6) << joint;
 }
+
+// An i_beam section equals the general section of its A, Iy, Iz and thin-walled J computed here
+// (IPE 200-like: h 0.2, b 0.1, web 5.6 mm, flanges 8.5 mm): the same elastic force on a deformed
+// shaft and the same mass.
+TEST(AncfBeamFrames, IBeamIsItsGeneralSection) {
+  const double h = 0.2, b = 0.1, tw = 0.0056, tf = 0.0085, hw = h - 2 * tf;
+  const double A = 2 * b * tf + hw * tw;
+  const double Iy = (b * h * h * h - (b - tw) * hw * hw * hw) / 12, Iz = (2 * tf * b * b * b + hw * tw * tw * tw) / 12;
+  const double J = (2 * b * tf * tf * tf + hw * tw * tw * tw) / 3;
+  char general[200];
+  std::snprintf(general, sizeof general, "{area: %.17g, Iy: %.17g, Iz: %.17g, J: %.17g}", A, Iy, Iz, J);
+  const Scene ib = readSceneText(shaft("{i_beam: {height: 0.2, width: 0.1, web: 0.0056, flange: 0.0085}}", ""), "i.yaml");
+  const Scene gs = readSceneText(shaft(general, ""), "g.yaml");
+  std::srand(5);
+  const VecX q = ib.model->initialPositions() + 0.01 * VecX::Random(ib.model->n), v = VecX::Zero(ib.model->n);
+  Assembler ai(*ib.model), ag(*gs.model);
+  const VecX pi = ib.model->nominalParameters(), pg = gs.model->nominalParameters();
+  const LocalState si = ai.localState(*ib.model->elements[1], q, v, pi), sg = ag.localState(*gs.model->elements[1], q, v, pg);
+  VecX Qi, Qg;
+  MatX Mi, Mg;
+  ib.model->elements[1]->force(si, Qi);
+  gs.model->elements[1]->force(sg, Qg);
+  ib.model->elements[1]->mass(si, Mi);
+  gs.model->elements[1]->mass(sg, Mg);
+  EXPECT_GT(Qi.norm(), 0.0);
+  EXPECT_LT(test::relMax(Qi, Qg), 1e-12);
+  EXPECT_LT(test::relMax(Mi, Mg), 1e-12);
+}
