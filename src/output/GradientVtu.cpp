@@ -46,17 +46,9 @@ void writeGradientVtu(const std::string& path, const std::string& shown, const M
       }
       grid->GetCellData()->AddArray(a);
     }
-  vtkNew<vtkXMLUnstructuredGridWriter> w;
-  w->SetFileName(path.c_str());
-  w->SetInputData(grid);
-  w->SetDataModeToAppended();
-  w->EncodeAppendedDataOff();
-  errno = 0;
-  const int ok = w->Write();
-  const int err = errno;
-  struct stat st;
-  if (ok != 1 || w->GetErrorCode() != vtkErrorCode::NoError || ::stat(path.c_str(), &st) != 0 || st.st_size == 0)
-    throw OutputError("cannot write " + shown + ": " + (err ? std::strerror(err) : "VTK error code " + std::to_string(w->GetErrorCode())));
+  const VtuWriteStatus st = writeVtuFile(grid, path);
+  if (!st.ok)
+    throw OutputError("cannot write " + shown + ": " + (st.err ? std::strerror(st.err) : "VTK error code " + std::to_string(st.code)));
 }
 
 }  // namespace flexsens

@@ -169,27 +169,14 @@ void ResultWriter::fail(const std::string& name, int err) const {
 }
 
 void ResultWriter::writeVtu(const StateWithSens& s, const std::string& name) const {
-  const std::string path = dir_ + "/" + name;
   const vtkSmartPointer<vtkUnstructuredGrid> grid = frameGrid(*scene_.model, s);
-  vtkNew<vtkXMLUnstructuredGridWriter> w;
-  w->SetFileName(path.c_str());
-  w->SetInputData(grid);
-  w->SetDataModeToAppended();
-  w->EncodeAppendedDataOff();
-  // VTK reports a failed write in its return value, or only in its error code (a full disk
-  // can leave a truncated file and success): check both, and the file itself.
-  errno = 0;
-  const int ok = w->Write();
-  const int err = errno;
-  const unsigned long code = w->GetErrorCode();
-  struct stat st;
-  if (ok != 1 || code != vtkErrorCode::NoError || ::stat(path.c_str(), &st) != 0 || st.st_size == 0) {
-    if (code == vtkErrorCode::OutOfDiskSpaceError) fail(name, ENOSPC);
-    if (err == 0 && code != vtkErrorCode::NoError)
-      throw OutputError("cannot write " + shownDir_ + "/" + name + ": VTK error code " + std::to_string(code) +
-                        " (vtkErrorCode.h)");
-    fail(name, err);
-  }
+  const VtuWriteStatus st = writeVtuFile(grid, dir_ + "/" + name);
+  if (st.ok) return;
+  if (st.code == vtkErrorCode::OutOfDiskSpaceError) fail(name, ENOSPC);
+  if (st.err == 0 && st.code != vtkErrorCode::NoError)
+    throw OutputError("cannot write " + shownDir_ + "/" + name + ": VTK error code " + std::to_string(st.code) +
+                      " (vtkErrorCode.h)");
+  fail(name, st.err);
 }
 
 void ResultWriter::progress(double t) {

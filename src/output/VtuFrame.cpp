@@ -6,8 +6,13 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkErrorCode.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <sys/stat.h>
 
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <map>
 #include <string>
@@ -325,6 +330,22 @@ vtkSmartPointer<vtkUnstructuredGrid> frameGrid(const Model& m, const StateWithSe
   for (auto& a : stresses) grid->GetCellData()->AddArray(a);
   addPointData(grid, points);
   return grid;
+}
+
+VtuWriteStatus writeVtuFile(vtkUnstructuredGrid* grid, const std::string& path) {
+  vtkNew<vtkXMLUnstructuredGridWriter> w;
+  w->SetFileName(path.c_str());
+  w->SetInputData(grid);
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();
+  errno = 0;
+  const int written = w->Write();
+  VtuWriteStatus st;
+  st.err = errno;
+  st.code = w->GetErrorCode();
+  struct stat file;
+  st.ok = written == 1 && st.code == vtkErrorCode::NoError && ::stat(path.c_str(), &file) == 0 && file.st_size > 0;
+  return st;
 }
 
 }  // namespace flexsens

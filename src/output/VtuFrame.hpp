@@ -10,6 +10,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <string>
 #include <vector>
 
 #include "core/Model.hpp"
@@ -23,5 +24,16 @@ vtkSmartPointer<vtkUnstructuredGrid> frameGrid(const Model& m, const StateWithSe
 /// Positions (derivative = false: ground nodes at their fixed position) or their parameter
 /// derivatives (derivative = true: ground nodes 0) of a node list, dim values per node.
 VecX gatherNodeCoordinates(const Model& m, const std::vector<int>& nodes, const VecX& q, bool derivative);
+
+/// How writing a .vtu went: ok, else the errno seen (0: none) and VTK's error code.
+struct VtuWriteStatus {
+  bool ok = false;
+  int err = 0;
+  unsigned long code = 0;
+};
+/// Writes grid to path (appended raw data). VTK reports a failed write in its return value, or
+/// only in its error code (a full disk can leave a truncated file and success): both are
+/// checked, and the file itself (it must exist and not be empty).
+VtuWriteStatus writeVtuFile(vtkUnstructuredGrid* grid, const std::string& path);
 
 }  // namespace flexsens
