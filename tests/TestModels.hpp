@@ -205,6 +205,27 @@ inline void expectDampedKernels(const Element& e, const LocalState& s, VecX& p, 
   expectParameterDerivatives(e, s, p, np);
 }
 
+/// A conservative element's kernels at s (positions s.x): dQ/dq analytic equals AD's to 1e-10
+/// and central differences of the force to 1e-6 (and is not zero), the force is not zero and
+/// equals -dU/dq by central differences of potential() to 1e-6, then its parameter derivatives
+/// (expectParameterDerivatives). Returns dQ/dq; the analytic and AD dQ/dv go to Kv, Kvad.
+inline MatX expectConservativeKernels(const Element& e, const LocalState& s, VecX& p, int np, MatX& Kv, MatX& Kvad) {
+  MatX K, Kad;
+  e.forceJacobian(s, K, Kv);
+  e.forceJacobianAD(s, Kad, Kvad);
+  EXPECT_GT(K.norm(), 0.0);
+  EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+  auto force = [&](const VecX& q) { LocalState t = s; t.x = q; VecX Q; e.force(t, Q); return Q; };
+  EXPECT_LT(relMax(fdJacobian(force, s.x, 1e-6), K), 1e-6) << "FD vs analytic dQ/dq";
+  auto energy = [&](const VecX& q) { LocalState t = s; t.x = q; return VecX::Constant(1, e.potential(t)); };
+  VecX Q;
+  e.force(s, Q);
+  EXPECT_GT(Q.norm(), 0.0);
+  EXPECT_LT(relMax(-fdJacobian(energy, s.x, 1e-6).transpose(), Q), 1e-6) << "-dU/dq vs Q";
+  expectParameterDerivatives(e, s, p, np);
+  return K;
+}
+
 /// An element's force() (its fixed-size kernel) against kernelForce() (the value template the
 /// AD kernels differentiate) at s, and again without velocities (s.v empty, read as zero) and
 /// gravity, where its analytic Jacobians must equal AD's too.

@@ -83,30 +83,13 @@ TEST(AncfBeamCurved, DerivativesMatchFiniteDifferencesAndAD) {
   std::srand(11);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   const LocalState s = c.at(moved(c.rest, R, {0.1, 0.2, -0.3}) + 0.05 * VecX::Random(24), true);
-  MatX K, Kv, Kad, Kvad;
-  c.e.forceJacobian(s, K, Kv);
-  c.e.forceJacobianAD(s, Kad, Kvad);
-  EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+  MatX Kv, Kvad;
+  const MatX K = test::expectConservativeKernels(c.e, s, c.p, 5, Kv, Kvad);
   EXPECT_LT(relMax(K, K.transpose()), 1e-12) << "conservative: symmetric stiffness";
-  auto force = [&](const VecX& x) {
-    LocalState t = s;
-    t.x = x;
-    VecX Q;
-    c.e.force(t, Q);
-    return Q;
-  };
-  EXPECT_LT(relMax(fdJacobian(force, s.x, 1e-6), K), 1e-6) << "FD vs analytic dQ/dq";
   VecX Q, Qt;
   c.e.force(s, Q);
   static_cast<const KernelElement<AncfBeam3D>&>(c.e).KernelElement<AncfBeam3D>::force(s, Qt);
   EXPECT_LT(relMax(Qt, Q), 1e-12) << "value template vs hand-coded force";
-  auto energy = [&](const VecX& x) {
-    LocalState t = s;
-    t.x = x;
-    return VecX::Constant(1, c.e.potential(t));
-  };
-  EXPECT_LT(relMax(-fdJacobian(energy, s.x, 1e-6).transpose(), Q), 1e-6) << "-dU/dq vs Q";
-  test::expectParameterDerivatives(c.e, s, c.p, 5);
 }
 
 // The rest shape carries no stress, moved rigidly or not (forces of order E A = 1800 N would

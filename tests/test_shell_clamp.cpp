@@ -81,20 +81,9 @@ TEST(ShellClamp, DerivativesAgainstFiniteDifferencesAndAD) {
     const VecX x = X + amp * VecX::Random(9);
     LocalState s = localState(x, &p3);
     s.v = VecX::Random(9);
-    MatX K, Kv, Kad, Kvad;
-    e.forceJacobian(s, K, Kv);
-    e.forceJacobianAD(s, Kad, Kvad);
-    EXPECT_GT(K.norm(), 0.0);
-    EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
+    MatX Kv, Kvad;
+    flexsens::test::expectConservativeKernels(e, s, p3, 3, Kv, Kvad);
     EXPECT_EQ(Kv.norm(), 0.0);
-    auto fq = [&](const VecX& q) { LocalState t = s; t.x = q; VecX Q; e.force(t, Q); return Q; };
-    EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6) << "FD vs analytic dQ/dq";
-    auto U = [&](const VecX& q) { LocalState t = s; t.x = q; VecX r(1); r[0] = e.potential(t); return r; };
-    VecX Q;
-    e.force(s, Q);
-    EXPECT_GT(Q.norm(), 0.0);
-    EXPECT_LT(relMax(-fdJacobian(U, x).transpose(), Q), 1e-6) << "-dU/dq vs Q";
-    expectParameterDerivatives(e, s, p3, 3);
     MatX M;
     EXPECT_FALSE(e.mass(s, M));  // massless
     // Kelvin-Voigt (beta bound to parameter 3): dQ/dv and d/dbeta too
@@ -128,19 +117,8 @@ TEST(ShellSymmetryHinge, DerivativesAgainstFiniteDifferencesAndAD) {
     std::srand(11);
     const VecX x = X + amp * VecX::Random(9);
     LocalState s = localState(x, &p3);
-    MatX K, Kv, Kad, Kvad;
-    e.forceJacobian(s, K, Kv);
-    e.forceJacobianAD(s, Kad, Kvad);
-    EXPECT_GT(K.norm(), 0.0);
-    EXPECT_LT(relMax(Kad, K), 1e-10) << "AD vs analytic dQ/dq";
-    auto fq = [&](const VecX& q) { LocalState t = s; t.x = q; VecX Q; e.force(t, Q); return Q; };
-    EXPECT_LT(relMax(fdJacobian(fq, x), K), 1e-6) << "FD vs analytic dQ/dq";
-    auto U = [&](const VecX& q) { LocalState t = s; t.x = q; VecX r(1); r[0] = e.potential(t); return r; };
-    VecX Q;
-    e.force(s, Q);
-    EXPECT_GT(Q.norm(), 0.0);
-    EXPECT_LT(relMax(-fdJacobian(U, x).transpose(), Q), 1e-6) << "-dU/dq vs Q";
-    expectParameterDerivatives(e, s, p3, 3);
+    MatX Kv, Kvad;
+    flexsens::test::expectConservativeKernels(e, s, p3, 3, Kv, Kvad);
     auto damped = boundProps();
     damped->beta = {0.0, 3};
     ShellClampHinge ed("s", {0, 1, 2}, damped, X, n, X.segment<3>(0));
