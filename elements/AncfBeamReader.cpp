@@ -158,6 +158,17 @@ std::vector<Eigen::Vector3d> chainTangents(const std::vector<Eigen::Vector3d>& d
   return t;
 }
 
+/// r_y before it is made normal to r_x = tx where the element gives no y_axis: the previous
+/// node's r_y while it stands well across tx (the section does not turn about a curved axis),
+/// else the global axis least aligned with tx.
+Eigen::Vector3d defaultSectionAxis(const Eigen::Vector3d& carried, const Eigen::Vector3d& tx) {
+  if ((carried - carried.dot(tx) * tx).norm() > 0.5) return carried;
+  int least = 0;
+  for (int c = 1; c < 3; ++c)
+    if (std::abs(tx[c]) < std::abs(tx[least]) - 1e-12) least = c;
+  return Eigen::Vector3d::Unit(least);
+}
+
 }  // namespace
 
 void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name) {
@@ -199,15 +210,7 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
       r.fail(nodeKey(j), nodePath(j), "the chain folds back at this node: give the node gradients");
     const Eigen::Vector3d tx = t.normalized();
     if (ctx.slopeAlong(ids[j], name, tx, nodeKey(j), nodePath(j))) continue;
-    Eigen::Vector3d y = yAxis;
-    if (!el["y_axis"] && (carried - carried.dot(tx) * tx).norm() > 0.5) {
-      y = carried;
-    } else if (!el["y_axis"]) {
-      int least = 0;
-      for (int c = 1; c < 3; ++c)
-        if (std::abs(tx[c]) < std::abs(tx[least]) - 1e-12) least = c;
-      y = Eigen::Vector3d::Unit(least);
-    }
+    Eigen::Vector3d y = el["y_axis"] ? yAxis : defaultSectionAxis(carried, tx);
     y -= y.dot(tx) * tx;
     if (!(y.norm() > 1e-9 * yAxis.norm()) || !(y.norm() > 1e-9))
       r.fail(el["y_axis"], path + ".y_axis", "is along the beam at node '" + nd.name + "': expected a direction across it");
