@@ -222,7 +222,7 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
   const bool straightRest = readStraightRest(
       r, el, path, "initial (default: the chain's starting shape, curved or twisted) or straight (it may start deformed)");
   auto sec = readSection(r, el, path);
-  ctx.bindAll(name, sec->properties());
+  ctx.bindBody(name, sec);
   ctx.bodies[name] = {ids, nullptr, true};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     ctx.slopeLinks.push_back({ids[j], ids[j + 1]});
@@ -231,7 +231,7 @@ void readAncfBeam(SceneContext& ctx, const YAML::Node& el, const std::string& pa
     const std::string elName = name + ".element" + std::to_string(j);
     try {
       m.elements.push_back(std::make_unique<AncfBeam3D>(
-          elName, std::vector<int>{ids[j], ids[j + 1]}, sec,
+          elName, std::vector<int>{ids[j], ids[j + 1]}, ctx.elementProperties(name, sec, int(m.elements.size())),
           curved ? AncfBeam3D::restLength(start) : ctx.distance(ids[j], ids[j + 1]), AncfBeam3D::kNormalPoints,
           AncfBeam3D::kShearPoints, curved ? &start : nullptr));
     } catch (const std::invalid_argument& e) {

@@ -59,7 +59,7 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
       r.fail(el["axial_points"], path + ".axial_points", "expected 3 (default) or 2 (reduced, for thin clamped beams)");
   }
   auto sec = readBeamSection(r, el, path);
-  ctx.bindAll(name, sec->properties());
+  ctx.bindBody(name, sec);
   ctx.bodies[name] = {ids, nullptr, true, sec->massless};
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     const Node &a = m.nodes[ids[j]], &b = m.nodes[ids[j + 1]];
@@ -73,7 +73,8 @@ void readAncfCable(SceneContext& ctx, const YAML::Node& el, const std::string& p
     try {
       ctx.slopeLinks.push_back({ids[j], ids[j + 1]});
       m.elements.push_back(std::make_unique<AncfCable>(name + ".element" + std::to_string(j),
-                                                       std::vector<int>{ids[j], ids[j + 1]}, sec, rest,
+                                                       std::vector<int>{ids[j], ids[j + 1]},
+                                                       ctx.elementProperties(name, sec, int(m.elements.size())), rest,
                                                        axialPoints));
     } catch (const std::invalid_argument& e) {  // e.g. a curved rest shape in 3D
       r.fail(nodeKey(j + 1), nodePath(j + 1), std::string(e.what()) + (d == 3 ? " (or rest_shape: straight)" : ""));

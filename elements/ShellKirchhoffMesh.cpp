@@ -168,7 +168,8 @@ int buildKirchhoffBending(const std::string& name, const std::vector<Eigen::Vect
                           const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                           const std::shared_ptr<ShellProperties>& props, bool flatRest,
                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                          const KirchhoffBoundaries& boundary, bool patchMembrane) {
+                          const KirchhoffBoundaries& boundary, bool patchMembrane,
+                          const std::vector<std::shared_ptr<ShellProperties>>& perTriangle) {
   const Topology topo = topology(tris, rest.size());
   std::vector<QuadraticFit> fits;
   for (size_t k = 0; k < tris.size(); ++k) {
@@ -218,9 +219,10 @@ int buildKirchhoffBending(const std::string& name, const std::vector<Eigen::Vect
         if (f != coef[i].end()) edges[i].coeff[a] = f->second;
       }
     }
-    out.push_back(std::make_unique<ShellKirchhoffBending>(name + ".bend" + std::to_string(k), model, props, X, edges,
+    const auto& own = perTriangle.empty() ? props : perTriangle[k];
+    out.push_back(std::make_unique<ShellKirchhoffBending>(name + ".bend" + std::to_string(k), model, own, X, edges,
                                                           flatRest));
-    if (patchMembrane) addPatchMembrane(name + ".membrane" + std::to_string(k), fits[k], rest, ids, props, out);
+    if (patchMembrane) addPatchMembrane(name + ".membrane" + std::to_string(k), fits[k], rest, ids, own, out);
   }
   return static_cast<int>(tris.size());
 }

@@ -27,8 +27,10 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
     VecX X(9);
     for (int j = 0; j < 3; ++j) X.segment<3>(3 * j) = rest[t[j]];
     try {
+      const bool own = kirchhoff && !kirchhoff->perTriangle.empty();
       out.push_back(std::make_unique<ShellTriangle>(name + ".tri" + std::to_string(k),
-                                                    std::vector<int>{ids[t[0]], ids[t[1]], ids[t[2]]}, props, X));
+                                                    std::vector<int>{ids[t[0]], ids[t[1]], ids[t[2]]},
+                                                    own ? kirchhoff->perTriangle[k] : props, X));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string(e.what()) + " (nodes " + nodesOf({t[0], t[1], t[2]}) + ")");
     }
@@ -49,7 +51,7 @@ ShellMeshCounts buildShell(const std::string& name, const std::vector<Eigen::Vec
     if (kirchhoff->patchMembrane)
       for (auto it = out.end() - n.triangles; it != out.end(); ++it) static_cast<ShellTriangle&>(**it).disableMembrane();
     n.kirchhoff = buildKirchhoffBending(name, rest, tris, ids, props, flatRest, out, label, kirchhoff->boundary,
-                                        kirchhoff->patchMembrane);
+                                        kirchhoff->patchMembrane, kirchhoff->perTriangle);
     return n;
   }
   for (const auto& [e, wings] : edges) {

@@ -41,6 +41,9 @@ using KirchhoffBoundaries = std::map<std::pair<int, int>, KirchhoffBoundary>;
 struct KirchhoffSettings {
   KirchhoffBoundaries boundary;
   bool patchMembrane = false;
+  /// Each triangle's own properties (its membrane, bending and mass: `per: element`
+  /// parameters); empty: every triangle has the shell's.
+  std::vector<std::shared_ptr<ShellProperties>> perTriangle;
 };
 
 /// The Kirchhoff bending triangles (<name>.bend<k>) of triangles tris, one per triangle, their
@@ -51,7 +54,8 @@ int buildKirchhoffBending(const std::string& name, const std::vector<Eigen::Vect
                           const std::vector<std::array<int, 3>>& tris, const std::vector<int>& ids,
                           const std::shared_ptr<ShellProperties>& props, bool flatRest,
                           std::vector<std::unique_ptr<Element>>& out, const std::function<std::string(int)>& label,
-                          const KirchhoffBoundaries& boundary, bool patchMembrane = false);
+                          const KirchhoffBoundaries& boundary, bool patchMembrane = false,
+                          const std::vector<std::shared_ptr<ShellProperties>>& perTriangle = {});
 
 /// rest: rest positions of the mesh nodes [m]; tris: node indices (into rest and ids) of each
 /// triangle; ids: model node of each mesh node. Elements are named <name>.tri<k> and

@@ -131,6 +131,10 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     if (b == "kirchhoff") kirchhoff = true;
     else if (b != "hinges") r.fail(el["bending"], path + ".bending", "expected hinges or kirchhoff; got '" + b + "'");
   }
+  if (ctx.perElementBodies.count(name) && !kirchhoff)
+    r.fail(el["bending"] ? el["bending"] : el["type"], path + ".bending",
+           "a parameter binds this shell per element, which needs bending: kirchhoff (each triangle's bending its "
+           "own element); the default hinges bend across the edge between two triangles");
   bool patchMembrane = kirchhoff;  // the default membrane: patch with kirchhoff, cst with hinges
   if (el["membrane"]) {
     const std::string mk = r.text(el["membrane"], path + ".membrane");
@@ -177,6 +181,9 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   KirchhoffSettings boundaries;
   if (kirchhoff) boundaries.boundary = kirchhoffBoundaries(tris, clamped, planes);
   boundaries.patchMembrane = patchMembrane;
+  if (kirchhoff && ctx.perElementBodies.count(name))  // triangle k is element `first + k` (ShellMesh.cpp)
+    for (size_t k = 0, first = m.elements.size(); k < tris.size(); ++k)
+      boundaries.perTriangle.push_back(ctx.elementProperties(name, props, int(first + k)));
   try {
     buildShell(name, mesh.positions, tris, ids, props, flatRest, m.elements,
                [&](int i) { return std::to_string(mesh.gmshTags[i]); }, clamped, kirchhoff ? &boundaries : nullptr);
@@ -185,7 +192,7 @@ void readShell(SceneContext& ctx, const YAML::Node& el, const std::string& path,
   }
   if (kirchhoff) checkSymmetryEdges(ctx, tris, planes, mesh.positions.size());
   else addSymmetryHinges(ctx, name, mesh, tris, ids, props, planes);
-  ctx.bindAll(name, props->properties());
+  ctx.bindBody(name, props);
   // A PIM body: its cloud is all its mesh nodes (a flat shell's is a planar cloud in 3D).
   ctx.bodies[name] = {ids, nullptr};
 }

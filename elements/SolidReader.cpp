@@ -106,22 +106,15 @@ void readSolid(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     std::vector<int> nodes(n);
     for (int j = 0; j < n; ++j) nodes[j] = ids[cell[j]];
     try {
-      // Per-element parameters: each cell its own copy of the properties, bound one by one.
-      const bool own = ctx.perElementBodies.count(name) > 0;
-      auto cellProps = own ? std::make_shared<SolidProperties>(*props) : props;
+      auto cellProps = ctx.elementProperties(name, props, int(m.elements.size()));
       m.elements.push_back(std::make_unique<Solid>(name + ".cell" + std::to_string(c), nodes, cellProps, mesh.shape, X));
-      if (own)
-        for (auto& [k, q] : cellProps->properties()) {
-          ctx.bind(name + "." + k, q);
-          ctx.elementBindings[name + "." + k].emplace_back(q, int(m.elements.size()) - 1);
-        }
     } catch (const std::invalid_argument& e) {
       std::string gn;
       for (int j : cell) gn += (gn.empty() ? "" : " ") + std::to_string(mesh.gmshTags[j]);
       r.fail(meshKey, path + ".mesh", std::string(e.what()) + " (Gmsh nodes " + gn + ")");
     }
   }
-  if (!ctx.perElementBodies.count(name)) ctx.bindAll(name, props->properties());
+  ctx.bindBody(name, props);
   std::vector<int> all;
   for (int id : ids) all.push_back(id);
   ctx.bodies[name] = {all, nullptr};

@@ -17,6 +17,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -297,6 +298,105 @@ objectives:
       EXPECT_NEAR(adj.objectives[i].gradient[k], nd, 1e-5 * scale) << m.parameters[size_t(k)].name << " " << i;
     }
   }
+}
+
+/// Adjoint against forward for every parameter, and against central differences of whole runs
+/// (relative step `rel` of the nominal value) for the parameters with the largest and the
+/// smallest adjoint gradient of objective 0.
+void checkPerElementGradients(const Scene& sc, double rel) {
+  const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint", 7);
+  EXPECT_LT(worstRelative(adj, fw, 1e-6 * fw.objectives[0].gradient.cwiseAbs().maxCoeff()), 1e-8);
+  Eigen::Index largest, smallest;
+  adj.objectives[0].gradient.cwiseAbs().maxCoeff(&largest);
+  adj.objectives[0].gradient.cwiseAbs().minCoeff(&smallest);
+  for (const Eigen::Index k : {largest, smallest}) {
+    const double d = rel * sc.model->parameters[size_t(k)].nominal;
+    const std::vector<double> plus = perturbedValues(sc, int(k), d), minus = perturbedValues(sc, int(k), -d);
+    for (size_t i = 0; i < adj.objectives.size(); ++i) {
+      const double nd = (plus[i] - minus[i]) / (2 * d), scale = adj.objectives[i].gradient.cwiseAbs().maxCoeff();
+      std::printf("%s, objective %zu: adjoint %.9e, central differences %.9e (largest %.3e)\n",
+                  sc.model->parameters[size_t(k)].name.c_str(), i, adj.objectives[i].gradient[k], nd, scale);
+      EXPECT_NEAR(adj.objectives[i].gradient[k], nd, 1e-5 * scale) << sc.model->parameters[size_t(k)].name << " " << i;
+    }
+  }
+}
+
+TEST(Gradient, PerElementThicknessOfAKirchhoffShell) {
+  // A clamped strip of Kirchhoff shell triangles sagging under gravity, one thickness per
+  // triangle (its membrane, bending and mass): each triangle's three elements share the
+  // parameter, which the strip's gradient field (gradient.vtu) shows on the triangle.
+  const std::string text = R"(dimension: 3
+gravity: [0, 0, -9.81]
+elements:
+  - {name: strip, type: shell, mesh: strip.geo, group: strip, size: 0.25, bending: kirchhoff,
+     E: 2.0e8, nu: 0.3, density: 1000, thickness: 0.01, clamp: [root]}
+parameters:
+  - {name: t, of: strip, property: thickness, per: element}
+integrator: {type: trapezoidal, t_end: 0.02, dt: 0.001, newton: full}
+outputs:
+  - {name: tip_z, node: tip, component: z}
+objectives:
+  - {name: tip_end, terminal: {output: tip_z}}
+  - {name: tip_sq, integral: {output: tip_z, power: 2}}
+)";
+  const Scene sc = sceneWith(text, std::string(FLEXSENS_SOURCE_DIR) + "/tests/scenes/shell/per_element.yaml", "");
+  const Model& m = *sc.model;
+  int triangles = 0;
+  for (const auto& e : m.elements) triangles += e->name().find(".tri") != std::string::npos;
+  ASSERT_GT(triangles, 10);
+  ASSERT_EQ(int(m.parameters.size()), triangles);
+  for (const auto& par : m.parameters) EXPECT_NE(m.elements[size_t(par.element)]->name().find(".tri"), std::string::npos);
+  checkPerElementGradients(sc, 1e-5);
+}
+
+TEST(Gradient, PerElementModulusOfAncfChains) {
+  // A 3D ancf_beam cantilever (E per element) and a planar ancf_cable one (density per
+  // element) under gravity.
+  const std::string beam = R"(dimension: 3
+gravity: [0, 0, -9.81]
+nodes:
+  - {name: A, position: [0, 0, 0], ground: true, clamped: true}
+  - {name: n1, position: [0.25, 0, 0]}
+  - {name: n2, position: [0.5, 0, 0]}
+  - {name: n3, position: [0.75, 0, 0]}
+  - {name: tip, position: [1, 0, 0]}
+elements:
+  - {name: arm, type: ancf_beam, nodes: [A, n1, n2, n3, tip], E: 2.0e7, nu: 0.3, density: 1000,
+     section: {width: 0.02, height: 0.03}}
+parameters:
+  - {name: E, of: arm, property: E, per: element}
+integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}
+outputs:
+  - {name: tip_z, node: tip, component: z}
+objectives:
+  - {name: tip_end, terminal: {output: tip_z}}
+  - {name: tip_sq, integral: {output: tip_z, power: 2}}
+)";
+  const Scene b = sceneWith(beam, "beam_per_element.yaml", "");
+  ASSERT_EQ(b.model->parameters.size(), 4u);
+  EXPECT_EQ(b.model->parameters[2].boundTo, "arm.E[2]");
+  checkPerElementGradients(b, 1e-6);
+  const std::string cable = R"(dimension: 2
+gravity: [0, -9.81]
+nodes:
+  - {name: A, position: [0, 0], ground: true, clamped: true}
+  - {name: n1, position: [0.3, 0]}
+  - {name: n2, position: [0.6, 0]}
+  - {name: tip, position: [0.9, 0]}
+elements:
+  - {name: rope, type: ancf_cable, nodes: [A, n1, n2, tip], E: 5.0e6, density: 800, section: {side: 0.02}}
+parameters:
+  - {name: rho, of: rope, property: density, per: element}
+integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}
+outputs:
+  - {name: tip_y, node: tip, component: y}
+objectives:
+  - {name: tip_end, terminal: {output: tip_y}}
+  - {name: tip_sq, integral: {output: tip_y, power: 2}}
+)";
+  const Scene c = sceneWith(cable, "cable_per_element.yaml", "");
+  ASSERT_EQ(c.model->parameters.size(), 3u);
+  checkPerElementGradients(c, 1e-6);
 }
 
 // ------------------------------------------------------------------ (c3) angle outputs

@@ -9,6 +9,7 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <utility>
@@ -141,6 +142,24 @@ class SceneContext {
   /// ... and list them here, "<body>.<property>" -> per element, in order, its quantity and its
   /// index in the model's elements.
   std::map<std::string, std::vector<std::pair<Quantity*, int>>> elementBindings;
+  /// The properties of one element of body `item` (`element`: its index in the model's
+  /// elements): the body's shared ones, or, when a parameter binds the body per element, a copy
+  /// of them bound as that element's own.
+  template <class Props>
+  std::shared_ptr<Props> elementProperties(const std::string& item, const std::shared_ptr<Props>& shared, int element) {
+    if (!perElementBodies.count(item)) return shared;
+    auto own = std::make_shared<Props>(*shared);
+    for (auto& [k, q] : own->properties()) {
+      bind(item + "." + k, q);
+      elementBindings[item + "." + k].emplace_back(q, element);
+    }
+    return own;
+  }
+  /// Binds a body's shared properties, unless its elements have their own (elementProperties).
+  template <class Props>
+  void bindBody(const std::string& item, const std::shared_ptr<Props>& shared) {
+    if (!perElementBodies.count(item)) bindAll(item, shared->properties());
+  }
 
  private:
   std::map<std::string, int> nodeIndex_;
