@@ -1,17 +1,17 @@
 #!/usr/bin/env python3
 """Cost and agreement of `flexsens gradient` by the discrete adjoint and by the forward
-sensitivities (not a test). Writes bench/adjoint/results.md and bench/adjoint/cost.csv.
+sensitivities (not a test). Writes bench/adjoint/results.md, cost.csv and cost.png.
 
 1. Agreement: adjoint against forward gradient, worst relative difference over objectives and
    parameters, on the flexible five-bar (trapezoidal, plain model: L_A1, L_B1), the massless
    satellite (BDF-1, case SAT1, 0.2 s) with an angle output, the ANCF pendulum
    (generalized-alpha), the shell panel (midpoint rule, 0.05 s).
 2. Cost against the number of parameters: a planar cantilever plate of linear triangles under
-   gravity (tests/scenes/solid/plate.geo), 100 steps of the trapezoidal rule, one thickness per
-   cell (per: element) or one E for the whole plate, at three mesh sizes. Wall times as the
-   gradient.json statistics give them (reading the scene and meshing excluded), the adjoint's
-   forward pass alone being the plain integration; peak RSS of the whole process
-   (/usr/bin/time).
+   gravity (tests/scenes/solid/plate.geo), 100 steps of the trapezoidal rule, at three mesh
+   sizes (about 100, 800 and 1000 cells); on each mesh a plain run (`flexsens run`, no
+   parameters) and gradients for 1 (E), 3 (E, nu, density) and one thickness per cell
+   (per: element) parameters. Wall times from summary.json / gradient.json (scene reading,
+   meshing and output excluded); peak RSS of the whole process (/usr/bin/time); cost.png.
 3. Memory with checkpointing: the five-bar at k = N (every state kept), k = 71 and k = 8.
 
     python3 bench/adjoint_bench.py [--flexsens build/flexsens]
@@ -84,8 +84,7 @@ PLATE = """dimension: 2
 gravity: [0, -9.81]
 elements:
   - {name: plate, type: solid, mesh: plate.geo, group: plate, size: %g, E: 2.0e6, nu: 0.3, density: 1000, thickness: 0.01, ground: [root]}
-parameters:
-  - %s
+%s
 integrator: {type: trapezoidal, t_end: 0.1, dt: 0.001, newton: full}
 outputs:
   - {name: tip_y, node: tipmid, component: y}
@@ -93,24 +92,74 @@ objectives:
   - {name: tip_end, terminal: {output: tip_y}}
 output: {vtk: false}
 """
+# Parameter sets on one mesh: whole-plate E; E, nu, density; one thickness per cell. (The
+# plate's thickness alone would not move the tip: mass and stiffness both scale with it.)
+PARAMETER_SETS = (["{name: E, of: plate, property: E}"],
+                  ["{name: E, of: plate, property: E}", "{name: nu, of: plate, property: nu}",
+                   "{name: rho, of: plate, property: density}"],
+                  ["{name: t, of: plate, property: thickness, per: element}"])
+COST_SIZES = (0.045, 0.0125, 0.011)  # about 100, 800 and 1000 cells
+
+
+def plain_run(exe, scene, wd):
+    """`flexsens run` of the scene without parameters and objectives: wall_time_s, peak RSS [kB]."""
+    out = os.path.join(wd, "plain_" + os.path.basename(scene))
+    p = subprocess.run(["/usr/bin/time", "-f", "%M", exe, "run", scene, "--out", out], capture_output=True, text=True)
+    if p.returncode != 0:
+        raise SystemExit("failed: plain run of %s\n%s" % (scene, p.stderr))
+    return json.load(open(os.path.join(out, "summary.json")))["wall_time_s"], int(p.stderr.strip().splitlines()[-1])
 
 
 def cost(exe, wd):
+    """Rows (size, Np, plain [s], plain RSS [kB], adjoint [s], forward [s], adjoint RSS, forward RSS,
+    adjoint vs forward): whole runs' wall_time_s (integration and gradient; scene reading,
+    meshing and output excluded) and peak RSS of the whole process."""
     shutil.copy(os.path.join(ROOT, "tests", "scenes", "solid", "plate.geo"), wd)
     rows = []
-    for size in (0.05, 0.025, 0.0125):
-        # One parameter: E of the whole plate (its thickness alone would not move the tip: mass and
-        # stiffness both scale with it); then one thickness per cell.
-        for per in ("{name: E, of: plate, property: E}", "{name: t, of: plate, property: thickness, per: element}"):
-            path = os.path.join(wd, "plate_%g_%d.yaml" % (size, "per" in per))
-            open(path, "w").write(PLATE % (size, per))
+    for size in COST_SIZES:
+        plain_scene = os.path.join(wd, "plate_%g_plain.yaml" % size)
+        open(plain_scene, "w").write((PLATE % (size, "")).replace("objectives:\n  - {name: tip_end, terminal: {output: tip_y}}\n", ""))
+        plain_s, plain_rss = plain_run(exe, plain_scene, wd)
+        for i, params in enumerate(PARAMETER_SETS):
+            path = os.path.join(wd, "plate_%g_%d.yaml" % (size, i))
+            open(path, "w").write(PLATE % (size, "parameters:\n" + "".join("  - %s\n" % q for q in params)))
             a, rss_a = gradient(exe, path, "adjoint", wd)
             f, rss_f = gradient(exe, path, "forward", wd)
-            sa = a[0]["statistics"]
-            rows.append((size, len(a[0]["gradient"]), sa["forward_pass_s"], sa["wall_time_s"], f[0]["statistics"]["wall_time_s"],
-                         rss_a, rss_f, worst(a, f)))
+            rows.append((size, len(a[0]["gradient"]), plain_s, plain_rss, a[0]["statistics"]["wall_time_s"],
+                         f[0]["statistics"]["wall_time_s"], rss_a, rss_f, worst(a, f)))
             print(rows[-1], flush=True)
     return rows
+
+
+def plot_cost(rows, png):
+    """Cost / plain run against Np per mesh, adjoint and forward, with the crossover."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for size in COST_SIZES:
+        r = sorted((x for x in rows if x[0] == size), key=lambda x: x[1])
+        n = [x[1] for x in r]
+        ax.plot(n, [x[4] / x[2] for x in r], "o-", label="adjoint, h = %g m (%d cells)" % (size, n[-1]))
+        ax.plot(n, [x[5] / x[2] for x in r], "s--", label="forward, h = %g m" % size)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("parameters Np")
+    ax.set_ylabel("gradient cost / plain run")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+
+
+def crossover(rows, size):
+    """Np where the forward cost, a line through the smallest and the largest set, meets the
+    adjoint's (its mean over the sets)."""
+    r = sorted((x for x in rows if x[0] == size), key=lambda x: x[1])
+    (n0, f0), (n1, f1) = (r[0][1], r[0][5]), (r[-1][1], r[-1][5])
+    slope = (f1 - f0) / (n1 - n0)
+    adjoint = sum(x[4] for x in r) / len(r)
+    return max(1.0, n0 + (adjoint - f0) / slope) if slope > 0 else float("nan")
 
 
 def memory(exe, wd):
@@ -139,8 +188,8 @@ def main():
         agree, costs, mem = agreement(exe, wd), cost(exe, wd), memory(exe, wd)
     with open(os.path.join(OUT, "cost.csv"), "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["size_m", "parameters", "integration_s", "adjoint_s", "forward_s", "adjoint_rss_kB", "forward_rss_kB",
-                    "adjoint_vs_forward"])
+        w.writerow(["size_m", "parameters", "plain_s", "plain_rss_kB", "adjoint_s", "forward_s", "adjoint_rss_kB",
+                    "forward_rss_kB", "adjoint_vs_forward"])
         w.writerows(costs)
     md = ["# Discrete adjoint: agreement, cost, memory", "",
           "Written by `python3 bench/adjoint_bench.py` (2 cores shared with other work: wall times are indicative;",
@@ -148,12 +197,18 @@ def main():
           "## Adjoint against forward gradient", "",
           "| scene | parameters | steps | worst relative difference | adjoint [s] | forward [s] | status |", "|---|---|---|---|---|---|---|"]
     md += ["| %s | %d | %d | %.2e | %.3f | %.3f | %s |" % r for r in agree]
+    plot_cost(costs, os.path.join(OUT, "cost.png"))
     md += ["", "## Cost against the number of parameters (plate, 100 steps)", "",
-           "integration: the adjoint's forward pass alone (a plain run without sensitivities).", "",
-           "| element size [m] | parameters | integration [s] | adjoint [s] | forward [s] | adjoint / integration | forward / integration | RSS adjoint [MB] | RSS forward [MB] | adjoint vs forward |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
-    md += ["| %g | %d | %.3f | %.3f | %.3f | %.1f | %.1f | %.0f | %.0f | %.1e |" %
-           (s, n, i, a, f, a / i, f / i, ra / 1024, rf / 1024, d) for s, n, i, a, f, ra, rf, d in costs]
+           "Each mesh: a plain run (`flexsens run`, no parameters), then `flexsens gradient` with one parameter (E),",
+           "three (E, nu, density) and one thickness per cell. Times: wall_time_s of summary.json / gradient.json",
+           "(integration and gradient; scene reading, meshing and output excluded). RSS: peak of the whole process.",
+           "![cost](cost.png)", "",
+           "| element size [m] | parameters | plain run [s] | adjoint [s] | forward [s] | adjoint / plain | forward / plain | RSS plain [MB] | RSS adjoint [MB] | RSS forward [MB] | RSS adjoint / plain | adjoint vs forward |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    md += ["| %g | %d | %.3f | %.3f | %.3f | %.2f | %.1f | %.0f | %.0f | %.0f | %.2f | %.1e |" %
+           (s, n, p, a, f, a / p, f / p, rp / 1024, ra / 1024, rf / 1024, ra / rp, d) for s, n, p, rp, a, f, ra, rf, d in costs]
+    md += ["", "Crossover (the forward cost as a line through the smallest and the largest Np, meeting the adjoint's mean cost): " +
+           ", ".join("h = %g m: Np = %.1f" % (z, crossover(costs, z)) for z in COST_SIZES)]
     md += ["", "## Memory with checkpointing (flexible five-bar, 5000 steps)", "",
            "| k | checkpoints | states held at once | their memory [kB] | recomputed steps | wall [s] | gradient change |",
            "|---|---|---|---|---|---|---|"]

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "app/EnergyAudit.hpp"
@@ -106,22 +107,30 @@ StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pi
   }
   StateWithSens s;
   s.x = consistentState(as, p);
-  const LeastNorm cod(as, s.x.q, p);  // least-norm initial sensitivities
-  for (size_t k = 0; k < m.parameters.size(); ++k) {
+  s.dp = leastNormSensitivities(as, s.x, p, 0, int(m.parameters.size()));
+  return s;
+}
+
+std::vector<State> leastNormSensitivities(const Assembler& as, const State& x, const VecX& p, int first, int count) {
+  std::vector<State> ds;
+  if (count <= 0) return ds;
+  as.setTime(x.t);  // drivers' constraints at the start
+  std::optional<LeastNorm> cod;
+  if (as.m()) cod.emplace(as, x.q, p);
+  for (int k = first; k < first + count; ++k) {
     State d;
-    const int kk = static_cast<int>(k);
-    if (as.m()) {
-      d.q = cod.solve(VecX(-as.phiParamDerivative(s.x.q, p, kk)));
-      d.v = cod.solve(velocitySensitivityRhs(as, s.x.q, s.x.v, p, kk, d.q));
+    if (cod) {
+      d.q = cod->solve(VecX(-as.phiParamDerivative(x.q, p, k)));
+      d.v = cod->solve(velocitySensitivityRhs(as, x.q, x.v, p, k, d.q));
     } else {
       d.q = VecX::Zero(as.n());
       d.v = VecX::Zero(as.n());
     }
-    masslessSensitivity(as, s.x, p, kk, d);  // no-op without massless coordinates
-    s.dp.push_back(d);
+    masslessSensitivity(as, x, p, k, d);  // no-op without massless coordinates
+    ds.push_back(d);
   }
-  solveAccelerationSensitivities(as, s.x, p, s.dp);
-  return s;
+  solveAccelerationSensitivities(as, x, p, ds, first);
+  return ds;
 }
 
 IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,

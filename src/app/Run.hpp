@@ -58,6 +58,9 @@ State consistentState(const Assembler& as, const VecX& p);
 /// otherwise by the least-norm rule (Phi_q q_p = -Phi_p with the smallest |q_p|).
 StateWithSens initialState(const Assembler& as, const VecX& p, const PimCase* pim = nullptr,
                            PimReport* report = nullptr);
+/// The least-norm initial sensitivities of parameters first ... first + count - 1 at the
+/// consistent state x (what initialState gives without a PIM case), one per parameter.
+std::vector<State> leastNormSensitivities(const Assembler& as, const State& x, const VecX& p, int first, int count);
 /// Integrates from `start` with the scene's integrator, sending frames to `obs`.
 IntegratorStats integrate(const Assembler& as, const VecX& p, const StateWithSens& start,
                           const IntegratorSettings& set, Observer& obs);

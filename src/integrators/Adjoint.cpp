@@ -236,7 +236,7 @@ std::vector<State> DiscreteAdjoint::recompute(long c, long len) {
 
 MatX DiscreteAdjoint::backward(int objectives, const Source& source) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Eigen::Index n = as_.n(), np = Eigen::Index(start_.dp.size());
+  const Eigen::Index n = as_.n(), np = p_.size();
   const long k = st_.checkpointEvery;
   AdjointStep step(as_, p_, set_);
   Adjoints mu(n, objectives);
@@ -255,10 +255,11 @@ MatX DiscreteAdjoint::backward(int objectives, const Source& source) {
   }
   // The start: w_0 = a_0 (generalized-alpha), then the initial sensitivities.
   mu.a += mu.w;
-  for (Eigen::Index kk = 0; kk < np; ++kk) {
-    const State& d = start_.dp[size_t(kk)];
-    gradient.row(kk) += d.q.transpose() * mu.q + d.v.transpose() * mu.v + d.a.transpose() * mu.a;
+  for (size_t kk = 0; kk < start_.dp.size(); ++kk) {
+    const State& d = start_.dp[kk];
+    gradient.row(Eigen::Index(kk)) += d.q.transpose() * mu.q + d.v.transpose() * mu.v + d.a.transpose() * mu.a;
   }
+  startAdjoints_ = {std::move(mu.q), std::move(mu.v), std::move(mu.a)};
   st_.backwardFactorizations = step.factorizations();
   st_.backwardSeconds = secondsSince(t0);
   return gradient;

@@ -45,6 +45,12 @@ bool hasAdjoint(const std::string& integrator);
 /// that exceeds the budget.
 long checkpointInterval(long steps, double stateBytes, long requested);
 
+/// The adjoints of the start state (q_0, v_0, a_0), one column per objective: dJ/dp gets
+/// dq_0/dp^T q + dv_0/dp^T v + da_0/dp^T a from the initial sensitivities.
+struct StartAdjoints {
+  MatX q, v, a;
+};
+
 class DiscreteAdjoint {
  public:
   /// Adds column i of gq (n x objectives) += dJ_i/dq_n and of gv += dJ_i/dv_n at step n, state x.
@@ -56,8 +62,11 @@ class DiscreteAdjoint {
   /// The forward pass: integrates without sensitivities, `obs` seeing each step as in a run
   /// (stepped at every step: the objective's samples, the energy audit), keeping checkpoints.
   IntegratorStats forward(Observer& obs);
-  /// The backward sweep: dJ_i/dp, one column per objective (parameters x objectives).
+  /// The backward sweep: dJ_i/dp, one column per objective (parameters x objectives), with the
+  /// initial sensitivities' terms when the start carries them (start.dp); without them (a
+  /// start of no dp) the caller adds those terms from startAdjoints().
   MatX backward(int objectives, const Source& source);
+  const StartAdjoints& startAdjoints() const { return startAdjoints_; }
   const AdjointStatistics& statistics() const { return st_; }
 
  private:
@@ -74,6 +83,7 @@ class DiscreteAdjoint {
   std::vector<State> checkpoints_;  ///< at steps 0, k, 2k, ...
   std::vector<State> tail_;         ///< the last segment, from the last checkpoint to the end
   AdjointStatistics st_;
+  StartAdjoints startAdjoints_;
 };
 
 }  // namespace flexsens

@@ -355,14 +355,15 @@ void solveAccelerationSensitivity(const Assembler& as, const State& x, const Vec
   d.lambda = sol.tail(m);
 }
 
-void solveAccelerationSensitivities(const Assembler& as, const State& x, const VecX& p, std::vector<State>& ds) {
+void solveAccelerationSensitivities(const Assembler& as, const State& x, const VecX& p, std::vector<State>& ds,
+                                    int first) {
   if (ds.empty()) return;
   const int n = as.n(), m = as.m();
   as.setTime(x.t);
   const auto [Kq, Kv] = forceJacobians(as, x, p);
   MatX sol(n + m, Eigen::Index(ds.size()));
   for (size_t k = 0; k < ds.size(); ++k)
-    sol.col(Eigen::Index(k)) = accelerationSensitivityRhs(as, x, p, int(k), ds[k], Kq, Kv);
+    sol.col(Eigen::Index(k)) = accelerationSensitivityRhs(as, x, p, first + int(k), ds[k], Kq, Kv);
   bool factored = true;
   try {
     factorAugmented(as, x.q, p, x.t).solve(sol);

@@ -45,10 +45,11 @@ VecX velocitySensitivityRhs(const Assembler& as, const VecX& q, const VecX& v, c
 /// Given x (q, v, a, lambda) and d.q, d.v for parameter k, fills d.a and d.lambda.
 void solveAccelerationSensitivity(const Assembler& as, const State& x, const VecX& p, int k,
                                   State& d);
-/// The same for every parameter (ds[k] for parameter k) with one factorization: a per-element
-/// parameter family of hundreds costs one solve with that many columns, not that many
-/// factorizations.
-void solveAccelerationSensitivities(const Assembler& as, const State& x, const VecX& p, std::vector<State>& ds);
+/// The same for parameters first, first + 1, ... (ds[j] for parameter first + j) with one
+/// factorization: a per-element parameter family of hundreds costs one solve with that many
+/// columns, not that many factorizations.
+void solveAccelerationSensitivities(const Assembler& as, const State& x, const VecX& p, std::vector<State>& ds,
+                                    int first = 0);
 
 // --- massless coordinates (parts with `inertia: none`): rows of M that are zero. Their
 // equations of motion are equilibrium equations F = (Phi_q^T lambda - Q)_m = 0, so at the start
