@@ -70,6 +70,8 @@ void readGeneralSection(const YamlReader& r, const YAML::Node& s, const std::str
     setGeneralSection(sec, A, I, I, 2 * I);  // round: J is the polar moment
     return;
   }
+  if (s["inner_diameter"])
+    r.fail(s["inner_diameter"], sp + ".inner_diameter", "belongs to a tube: expected diameter beside it (the outer one)");
   const double A = r.positive(r.require(s, "area", sp), sp + ".area");
   const double Iy = r.positive(r.require(s, "Iy", sp), sp + ".Iy"), Iz = r.positive(r.require(s, "Iz", sp), sp + ".Iz");
   const double J = s["J"] ? r.positive(s["J"], sp + ".J") : Iy + Iz;
@@ -106,7 +108,7 @@ std::shared_ptr<AncfBeamSection> readSection(const YamlReader& r, const YAML::No
   r.requireMap(s, sp);
   r.allowKeys(s, sp, {"side", "width", "height", "area", "Iy", "Iz", "J", "diameter", "inner_diameter", "i_beam"});
   const bool rectangle = s["side"] || s["width"] || s["height"];
-  if (rectangle && (s["area"] || s["Iy"] || s["Iz"] || s["J"] || s["diameter"] || s["i_beam"]))
+  if (rectangle && (s["area"] || s["Iy"] || s["Iz"] || s["J"] || s["diameter"] || s["inner_diameter"] || s["i_beam"]))
     r.fail(s, sp, "give one kind of section: side, width and height, area with Iy, Iz (and J), diameter, or i_beam");
   if (!rectangle) readGeneralSection(r, s, sp, *sec);
   else if (s["side"]) {
