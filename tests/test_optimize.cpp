@@ -215,3 +215,19 @@ objectives:
     EXPECT_NEAR(mass.gradient[k], fd, 1e-9 * std::abs(fd)) << k;
   }
 }
+
+TEST(Optimize, FiveBarExampleRecoversTheLinkLengthsOfItsPath) {
+  // examples/optimize/fivebar_path.yaml: the path is the five-bar's own at L_A1 = 1.5 m,
+  // L_3B = 1.3 m (make_fivebar_path.py); from sqrt(2) m each the optimizer finds them again.
+  const fs::path out = fs::temp_directory_path() / ("flexsens_optimize_fivebar_" + std::to_string(::getpid()));
+  OptimizeRequest req;
+  req.scenePath = std::string(FLEXSENS_SOURCE_DIR) + "/examples/optimize/fivebar_path.yaml";
+  req.outDir = out.string();
+  req.plots = false;
+  const OptimizeResult r = optimizeCommand(req);
+  EXPECT_EQ(r.status, "converged") << r.nloptResult;
+  ASSERT_GE(r.best, 0);
+  EXPECT_NEAR(r.history[size_t(r.best)].x[0], 1.5, 1.5e-6);
+  EXPECT_NEAR(r.history[size_t(r.best)].x[1], 1.3, 1.3e-6);
+  fs::remove_all(out);
+}

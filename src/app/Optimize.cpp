@@ -250,6 +250,8 @@ void runOptimizer(Scene& sc, OptimizeResult& res) {
   else res.status = "converged";
   if (res.status == "converged" && res.best >= 0 && violation(spec, res.history[size_t(res.best)]) > 0.0)
     res.status = "infeasible";
+  if (res.status == "converged" && res.best >= 0 && res.history[size_t(res.best)].status == "suspect")
+    res.status = "suspect";  // the optimum of a run the energy audit doubts (its message in optimize.json)
 }
 
 /// InputError for what the optimizer cannot run: no `optimize:`, no gradient for the integrator.

@@ -36,7 +36,8 @@ struct OptimizeEvaluation {
 };
 
 struct OptimizeResult {
-  /// converged | max_evaluations | roundoff_limited | infeasible | failed | interrupted | nlopt_failure
+  /// converged | suspect (converged, the best run doubted by the energy audit) | max_evaluations |
+  /// roundoff_limited | infeasible | failed | interrupted | nlopt_failure
   std::string status;
   std::string nloptResult = "NOT_RUN";  ///< NLopt's return code by its name (FTOL_REACHED, ...)
   int nloptCode = 0;
@@ -53,7 +54,7 @@ struct OptimizeResult {
   double wallSeconds = 0.0;
   std::string directory, plotNote, sceneNote;
 
-  /// Exit code: 0 converged, 5 stopped without convergence or infeasible, 2 an evaluation
+  /// Exit code: 0 converged, 5 suspect, stopped without convergence or infeasible, 2 an evaluation
   /// failed, 3 NLopt failed, 128 + signal interrupted.
   int exitCode() const;
 };

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "output/GradientVtu.hpp"
 #include "output/Manifest.hpp"
 #include "output/ResultWriter.hpp"
 
@@ -218,6 +219,13 @@ void writeOptimizeOutputs(RunDirectory& dir, const Scene& sc, OptimizeResult& r)
   if (wide) write("history_variables.csv", variablesCsv(r));
   write("optimum.csv", optimumCsv(r));
   if (r.best >= 0) write("optimized.yaml", optimizedScene(sc, r, r.sceneNote));
+  if (r.best >= 0 && hasPerElementParameters(*sc.model)) {  // the optimized design, for ParaView
+    VecX p = sc.model->nominalParameters();
+    size_t i = 0;
+    for (const OptimizeVariable& v : sc.optimize.variables)
+      for (int k : v.parameters) p[k] = r.history[size_t(r.best)].x[Eigen::Index(i++)];
+    writeParameterVtu(dir.staging() + "/optimum.vtu", dir.final() + "/optimum.vtu", *sc.model, p);
+  }
   write("optimize.json", optimizeJson(r));
 }
 

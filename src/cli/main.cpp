@@ -205,6 +205,8 @@ int executeOptimize(OptimizeArgs& a) {
   if (r.interruptedBy) std::cerr << "flexsens: interrupted; the best point so far is written (optimize.json status 'interrupted')\n";
   if (r.status == "max_evaluations" || r.status == "roundoff_limited" || r.status == "infeasible")
     std::cerr << "flexsens: not converged: status " << r.status << " (optimize.json)\n";
+  if (r.status == "suspect")
+    std::cerr << "flexsens: SUSPECT optimum (optimize.json status 'suspect'): " << r.history[size_t(r.best)].message << "\n";
   return r.exitCode();
 }
 
