@@ -111,6 +111,16 @@ TEST(Optimize, ReachesTheClosedFormOptimumWithEachAlgorithm) {
   }
 }
 
+TEST(Optimize, ForwardGradientsReachTheSameOptimum) {
+  const fs::path dir = barScene("forward", "slsqp", "  gradient: forward");
+  const OptimizeResult r = optimizeBar(dir);
+  EXPECT_EQ(r.status, "converged") << r.nloptResult;
+  EXPECT_EQ(r.gradient, "forward");
+  ASSERT_GE(r.best, 0);
+  EXPECT_NEAR(bestMass(r), 4.0, 4e-6);
+  fs::remove_all(dir);
+}
+
 TEST(Optimize, ConstraintsActiveAtTheirBounds) {
   struct Case {
     std::string algorithm, constraint;
@@ -230,4 +240,42 @@ TEST(Optimize, FiveBarExampleRecoversTheLinkLengthsOfItsPath) {
   EXPECT_NEAR(r.history[size_t(r.best)].x[0], 1.5, 1.5e-6);
   EXPECT_NEAR(r.history[size_t(r.best)].x[1], 1.3, 1.3e-6);
   fs::remove_all(out);
+}
+
+/// The relative differences |dJ/dx_k - central difference| / |central difference| of the
+/// evaluations' gradients at x, k = 0 ... size - 1 (step h relative to x_k).
+std::vector<double> gradientMismatch(Scene& sc, const VecX& x, double h) {
+  std::vector<VecX> points{x};
+  for (Eigen::Index k = 0; k < x.size(); ++k)
+    for (double s : {1.0, -1.0}) {
+      points.push_back(x);
+      points.back()[k] += s * h * x[k];
+    }
+  const std::vector<OptimizeEvaluation> e = evaluatePoints(sc, points);
+  std::vector<double> mismatch;
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    const double fd = (e.at(size_t(1 + 2 * k)).objective - e.at(size_t(2 + 2 * k)).objective) / (2 * h * x[k]);
+    mismatch.push_back(std::abs(e[0].gradient[k] - fd) / std::abs(fd));
+  }
+  return mismatch;
+}
+
+TEST(Optimize, EvaluationGradientsEqualCentralDifferences) {
+  // The bar's mass does not move its start: the gradient is the evaluations' derivative
+  // (measured 3.2e-10 relative, the central difference's round-off).
+  const fs::path dir = barScene("fd", "mma", "");
+  Scene bar = readScene((dir / "bar.yaml").string());
+  VecX m(1);
+  m << 3.0;
+  EXPECT_LT(gradientMismatch(bar, m, 1e-6)[0], 1e-8) << gradientMismatch(bar, m, 1e-6)[0];
+  fs::remove_all(dir);
+  // The five-bar's lengths do: away from the scene's values the start is the scene's start
+  // projected onto the constraints at the new lengths, and the gradient takes its least-norm
+  // sensitivity there, not the projection's derivative (docs/known-limits.md): measured 6.5e-5
+  // and 5.9e-5 relative at lengths 2.5% and 4% from the scene's. Held to 1e-4 so that it does
+  // not grow unnoticed.
+  Scene fivebar = readScene(std::string(FLEXSENS_SOURCE_DIR) + "/examples/optimize/fivebar_path.yaml");
+  VecX x(2);
+  x << 1.45, 1.36;
+  for (double mismatch : gradientMismatch(fivebar, x, 1e-6)) EXPECT_LT(mismatch, 1e-4) << mismatch;
 }

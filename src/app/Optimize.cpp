@@ -268,6 +268,19 @@ void requireOptimizable(const Scene& sc) {
 
 }  // namespace
 
+std::vector<OptimizeEvaluation> evaluatePoints(Scene& sc, const std::vector<VecX>& points) {
+  requireOptimizable(sc);
+  OptimizeResult res;
+  Evaluator evaluator(sc, res);
+  for (const VecX& x : points) {
+    try {
+      evaluator.at(x.data());
+    } catch (const nlopt::forced_stop&) {  // a failed evaluation: kept in the history
+    }
+  }
+  return res.history;
+}
+
 int OptimizeResult::exitCode() const {
   if (status == "interrupted") return 128 + interruptedBy;
   if (status == "failed") return 2;

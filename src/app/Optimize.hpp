@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/Types.hpp"
+#include "scene/Scene.hpp"
 
 namespace flexsens {
 
@@ -58,6 +59,11 @@ struct OptimizeResult {
   /// failed, 3 NLopt failed, 128 + signal interrupted.
   int exitCode() const;
 };
+
+/// The evaluations `flexsens optimize` makes, at the given points (the variables' values in
+/// the order of OptimizeResult::variables), each from the scene as read; for tests. A failed
+/// evaluation has ok false and the model's message.
+std::vector<OptimizeEvaluation> evaluatePoints(Scene& scene, const std::vector<VecX>& points);
 
 /// Reads the scene, runs the optimizer and writes DIR: history.csv (history_variables.csv
 /// for more than 20 variables), optimize.json, optimized.yaml, optimum.csv, history.png.
