@@ -137,8 +137,22 @@ TEST(Optimize, ConstraintsActiveAtTheirBounds) {
     EXPECT_EQ(r.status, "converged") << c.algorithm << " " << c.constraint << " " << r.nloptResult;
     ASSERT_GE(r.best, 0);
     EXPECT_NEAR(bestMass(r), c.mass, 1e-6 * c.mass) << c.algorithm << " " << c.constraint;
+    EXPECT_LT(r.kktResidual, 1e-6) << c.algorithm << " " << c.constraint;
     fs::remove_all(dir);
   }
+}
+
+TEST(Optimize, AStalledStopIsNotCalledConverged) {
+  // MMA from the infeasible start m = 3 kg (y(1 s) = 1/3 < 0.5 m) jumps to 1.69 kg and then to
+  // the bound 0.5 kg and stops with XTOL_REACHED after 3 evaluations; the best point (1.69 kg,
+  // the constraint inactive) has a gradient far from zero: stalled, not converged.
+  const fs::path dir = barScene("stalled", "mma", "  constraints: [{objective: y_end, min: 0.5}]", 3.0);
+  const OptimizeResult r = optimizeBar(dir);
+  EXPECT_EQ(r.nloptResult, "XTOL_REACHED");
+  EXPECT_EQ(r.status, "stalled");
+  EXPECT_EQ(r.exitCode(), 5);
+  EXPECT_GT(r.kktResidual, 0.1);
+  fs::remove_all(dir);
 }
 
 TEST(Optimize, FailingEvaluationStopsWithTheReportAndExitCode2) {

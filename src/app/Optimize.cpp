@@ -174,6 +174,42 @@ double violation(const OptimizeSpec& spec, const OptimizeEvaluation& e) {
   return worst;
 }
 
+/// OptimizeResult::kktResidual of evaluation e, relative to the larger of its gradient and the
+/// start's (at an unconstrained optimum the gradient itself vanishes): the constraints within 1e-6 max(1, |bound|) of
+/// their bound are active, a variable at a bound (1e-9 of the range) is held when the residual
+/// pushes it outward.
+double kktResidual(const OptimizeSpec& spec, const OptimizeResult& res, const OptimizeEvaluation& e) {
+  const Eigen::Index n = e.gradient.size();
+  std::vector<Eigen::Index> active;
+  for (size_t c = 0; c < spec.constraints.size(); ++c)
+    if (std::abs(e.constraints[c] - spec.constraints[c].bound) <= 1e-6 * std::max(1.0, std::abs(spec.constraints[c].bound)))
+      active.push_back(Eigen::Index(c));
+  auto heldMask = [&](const VecX& r) {  // 1 for the components that count
+    VecX mask = VecX::Ones(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double range = res.upper[i] - res.lower[i];
+      if ((e.x[i] <= res.lower[i] + 1e-9 * range && r[i] >= 0) || (e.x[i] >= res.upper[i] - 1e-9 * range && r[i] <= 0))
+        mask[i] = 0.0;
+    }
+    return mask;
+  };
+  const VecX g = e.gradient;
+  VecX r = g;
+  if (!active.empty()) {  // least-squares multipliers on the components that are not held
+    MatX A(n, Eigen::Index(active.size()));
+    for (size_t j = 0; j < active.size(); ++j) A.col(Eigen::Index(j)) = e.constraintGradients[size_t(active[j])];
+    const VecX free = heldMask(g);
+    const VecX mu = (free.asDiagonal() * A).colPivHouseholderQr().solve(-(free.asDiagonal() * g));
+    r = g + A * mu;
+  }
+  const double scale = std::max(g.cwiseAbs().maxCoeff(), res.history.front().gradient.cwiseAbs().maxCoeff());
+  return scale > 0 ? (heldMask(r).asDiagonal() * r).cwiseAbs().maxCoeff() / scale : 0.0;
+}
+
+/// NLopt said converged, but the best point's gradient is this far from stationary: stalled
+/// (MMA from an infeasible start can stop after a jump to a bound: residual 1).
+constexpr double kStalledResidual = 0.1;
+
 /// The best evaluation: the lowest objective among the feasible ones, else the least violation.
 int bestEvaluation(const OptimizeSpec& spec, const std::vector<OptimizeEvaluation>& history) {
   int best = -1;
@@ -242,6 +278,7 @@ void runOptimizer(Scene& sc, OptimizeResult& res) {
   res.nloptCode = int(r);
   res.nloptResult = resultName(r);
   res.best = bestEvaluation(spec, res.history);
+  if (res.best >= 0) res.kktResidual = kktResidual(spec, res, res.history[size_t(res.best)]);
   if (res.interruptedBy) res.status = "interrupted";
   else if (res.failed >= 0) res.status = "failed";
   else if (r == nlopt::MAXEVAL_REACHED) res.status = "max_evaluations";
@@ -250,6 +287,7 @@ void runOptimizer(Scene& sc, OptimizeResult& res) {
   else res.status = "converged";
   if (res.status == "converged" && res.best >= 0 && violation(spec, res.history[size_t(res.best)]) > 0.0)
     res.status = "infeasible";
+  if (res.status == "converged" && res.kktResidual > kStalledResidual) res.status = "stalled";
   if (res.status == "converged" && res.best >= 0 && res.history[size_t(res.best)].status == "suspect")
     res.status = "suspect";  // the optimum of a run the energy audit doubts (its message in optimize.json)
 }

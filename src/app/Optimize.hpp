@@ -8,6 +8,7 @@
 // far is kept and written with the model's message.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,8 @@ struct OptimizeEvaluation {
 };
 
 struct OptimizeResult {
-  /// converged | suspect (converged, the best run doubted by the energy audit) | max_evaluations |
+  /// converged | stalled (NLopt stopped at a point whose KKT residual exceeds 0.1) | suspect
+  /// (converged, the best run doubted by the energy audit) | max_evaluations |
   /// roundoff_limited | infeasible | failed | interrupted | nlopt_failure
   std::string status;
   std::string nloptResult = "NOT_RUN";  ///< NLopt's return code by its name (FTOL_REACHED, ...)
@@ -53,9 +55,13 @@ struct OptimizeResult {
   int failed = -1;  ///< index into history of the evaluation that failed
   int interruptedBy = 0;
   double wallSeconds = 0.0;
+  /// The best point's stationarity: |g + A^T mu|_inf / max(|g|_inf, |g_start|_inf) over the variables not held by
+  /// an active bound (A: the active constraints' gradients, mu their least-squares multipliers);
+  /// near 0 at a KKT point, NaN when not computed. A check on NLopt's stop, not a status.
+  double kktResidual = std::numeric_limits<double>::quiet_NaN();
   std::string directory, plotNote, sceneNote;
 
-  /// Exit code: 0 converged, 5 suspect, stopped without convergence or infeasible, 2 an evaluation
+  /// Exit code: 0 converged, 5 stalled, suspect, stopped without convergence or infeasible, 2 an evaluation
   /// failed, 3 NLopt failed, 128 + signal interrupted.
   int exitCode() const;
 };

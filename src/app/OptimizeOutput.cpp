@@ -93,7 +93,8 @@ std::string optimizeJson(const OptimizeResult& r) {
   for (size_t c = 0; c < r.constraints.size(); ++c)
     js << (c ? ", " : "") << "{\"objective\": " << jsonString(r.constraints[c]) << ", \""
        << (r.upperBounds[c] ? "max" : "min") << "\": " << jsonNumber(r.bounds[c]) << "}";
-  js << "],\n  \"evaluations\": " << r.history.size() << ",\n  \"wall_time_s\": " << jsonNumber(r.wallSeconds);
+  js << "],\n  \"evaluations\": " << r.history.size() << ",\n  \"wall_time_s\": " << jsonNumber(r.wallSeconds)
+     << ",\n  \"kkt_residual\": " << jsonNumber(r.kktResidual);
   if (!r.history.empty()) js << ",\n  \"start\": " << evaluationJson(r, r.history.front());
   if (r.best >= 0) js << ",\n  \"optimum\": " << evaluationJson(r, r.history[size_t(r.best)]);
   if (r.failed >= 0) js << ",\n  \"failure\": " << evaluationJson(r, r.history[size_t(r.failed)]);

@@ -194,6 +194,7 @@ int executeOptimize(OptimizeArgs& a) {
     std::cout << "  " << r.objective << ": " << r.history.front().objective << " at the start";
   if (r.best >= 0) std::cout << ", " << r.history[size_t(r.best)].objective << " at evaluation " << r.history[size_t(r.best)].index;
   std::cout << "\n";
+  if (r.best >= 0) std::cout << "  KKT residual at the best point " << r.kktResidual << " (0 at a stationary point)\n";
   if (!r.plotNote.empty()) std::cerr << "flexsens: note: history.png not drawn: " << r.plotNote << "\n";
   if (r.failed >= 0) {
     const OptimizeEvaluation& e = r.history[size_t(r.failed)];
@@ -203,6 +204,9 @@ int executeOptimize(OptimizeArgs& a) {
               << "\nflexsens: the optimizer stopped; the best point so far is written (optimize.json status 'failed')\n";
   }
   if (r.interruptedBy) std::cerr << "flexsens: interrupted; the best point so far is written (optimize.json status 'interrupted')\n";
+  if (r.status == "stalled")
+    std::cerr << "flexsens: NLopt stopped (" << r.nloptResult << ") where the gradient is not stationary (KKT residual "
+              << r.kktResidual << " > 0.1): try algorithm slsqp, a feasible start or other bounds\n";
   if (r.status == "max_evaluations" || r.status == "roundoff_limited" || r.status == "infeasible")
     std::cerr << "flexsens: not converged: status " << r.status << " (optimize.json)\n";
   if (r.status == "suspect")
