@@ -12,6 +12,7 @@ PACKAGES=(
   libseccomp-dev                     # system-call filter of the sandboxed Gmsh child
   libvtk9-dev                        # VTK XML writers (.vtu)
   libyaml-cpp-dev                    # scene files
+  libnlopt-cxx-dev                   # NLopt (C++ API): MMA, SLSQP, L-BFGS of flexsens optimize
   libcli11-dev                       # command line
   libgtest-dev                       # tests
   libopenmpi-dev openmpi-bin         # MPI: sweep, run and study over the ranks of mpirun (docs/sweeps.md)

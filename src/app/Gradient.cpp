@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/BodyMass.hpp"
 #include "app/Commands.hpp"
 #include "app/EnergyAudit.hpp"
 #include "app/Objectives.hpp"
@@ -143,7 +144,8 @@ void requireStaticObjectives(const Scene& sc, const std::vector<size_t>& sel) {
     if (o.kind == "sum") for (const auto& [k, w] : o.terms) leaves.push_back(k);
     else leaves.push_back(int(i));
     for (int k : leaves)
-      if (sc.objectives[size_t(k)].kind != "terminal" || sc.objectives[size_t(k)].at >= 0)
+      if (sc.objectives[size_t(k)].kind != "mass" &&
+          (sc.objectives[size_t(k)].kind != "terminal" || sc.objectives[size_t(k)].at >= 0))
         throw InputError(sc.objectives[size_t(k)].where + ": objective '" + sc.objectives[size_t(k)].name +
                          "': a static equilibrium has terminal objectives only, without at (the last load step)");
   }
@@ -188,6 +190,15 @@ MatX staticGradients(const Scene& sc, const std::vector<size_t>& sel, MatX& samp
   return G;
 }
 
+/// The objective's value and gradient through the motion plus its direct dependence on the
+/// parameters (a body's mass: app/BodyMass.hpp).
+ObjectiveGradient withExplicitPart(const Scene& sc, size_t i, ObjectiveGradient g) {
+  const ExplicitObjective e = explicitObjective(*sc.model, sc.objectives, i, sc.model->nominalParameters());
+  g.value += e.value;
+  g.gradient += e.gradient;
+  return g;
+}
+
 void requireGradientMethod(const Scene& sc, const std::string& method) {
   if (method != "adjoint" && method != "forward")
     throw InputError("option --method: expected adjoint or forward, got '" + method + "'");
@@ -213,8 +224,9 @@ GradientResult computeGradients(const Scene& sc, const GradientRequest& req) {
     MatX samples;
     const MatX G = staticGradients(sc, sel, samples, res);
     for (size_t i = 0; i < sel.size(); ++i)
-      res.objectives.push_back({sc.objectives[sel[i]].name, objectiveValue(sc.objectives, sel[i], StepGrid{}, samples),
-                                G.col(Eigen::Index(i))});
+      res.objectives.push_back(withExplicitPart(sc, sel[i], {sc.objectives[sel[i]].name,
+                                                             objectiveValue(sc.objectives, sel[i], StepGrid{}, samples),
+                                                             G.col(Eigen::Index(i))}));
     res.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;
   }
@@ -242,8 +254,9 @@ GradientResult computeGradients(const Scene& sc, const GradientRequest& req) {
   const MatX G = req.method == "forward" ? forwardGradients(sc, as, p, start, sel, g, audit, sampler, res)
                                          : adjointGradients(sc, as, p, start, sel, g, req.checkpointEvery, audit, sampler, res);
   for (size_t i = 0; i < sel.size(); ++i)
-    res.objectives.push_back({sc.objectives[sel[i]].name, objectiveValue(sc.objectives, sel[i], g, sampler.samples()),
-                              G.col(Eigen::Index(i))});
+    res.objectives.push_back(withExplicitPart(sc, sel[i], {sc.objectives[sel[i]].name,
+                                                           objectiveValue(sc.objectives, sel[i], g, sampler.samples()),
+                                                           G.col(Eigen::Index(i))}));
   res.reason = audit.reason();
   if (!res.reason.empty()) res.status = "suspect";
   res.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -80,6 +80,7 @@ KsParts ksParts(const ObjectiveSpec& o, const StepGrid& g, const VecX& series) {
 
 /// dJ/do_n of a leaf objective into column `column` of dJ, times factor (value returned).
 double leaf(const ObjectiveSpec& o, const StepGrid& g, const MatX& samples, double factor, MatX* dJ) {
+  if (o.kind == "mass") return 0.0;  // no output: app/BodyMass.hpp
   const VecX series = samples.col(o.output);
   double J = 0.0;
   if (o.kind == "terminal") {

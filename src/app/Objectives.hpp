@@ -6,6 +6,7 @@
 //   tracking  the same with f_n = (o_n - r(t_n))^2
 //   max       J = KS(o) = m + ln(sum_n exp(rho (o_n - m))) / rho over the steps in [from, to],
 //             m = max o_n: max o_n <= J <= max o_n + ln(count) / rho
+//   mass      J = a body's mass: no output; 0 here, its value and gradient app/BodyMass.hpp
 //   sum       J = sum_j weight_j J_j
 // Each J is a function of the samples alone, so dJ/dp = sum_n dJ/do_n do_n/dp exactly (the
 // forward method) and dJ/do_n is the adjoint's source at step n.

@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/PlotScript.hpp"
 #include "output/Manifest.hpp"
 #include "output/RunDirectory.hpp"
 #include "parallel/TaskFarm.hpp"
@@ -95,25 +96,6 @@ void writeSampleFolders(RunDirectory& dir, const SweepTable& t) {
   writeManifestOfContents(samples, shown, "samples", {});
 }
 
-/// scripts/plot_sweep.py beside the build (build/flexsens -> scripts/): "" when drawn, else why not.
-std::string drawPlots(const std::string& folder) {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path script = exe.parent_path().parent_path() / "scripts" / "plot_sweep.py";
-  if (ec || !fs::is_regular_file(script)) return "scripts/plot_sweep.py not found beside the build";
-  const pid_t pid = ::fork();
-  if (pid == 0) {  // Debian's python3 first: python3-matplotlib installs there, not into a PATH's pyenv
-    ::execl("/usr/bin/python3", "python3", script.c_str(), folder.c_str(), static_cast<char*>(nullptr));
-    ::execlp("python3", "python3", script.c_str(), folder.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  int status = 0;
-  if (pid < 0 || ::waitpid(pid, &status, 0) < 0) return "could not start python3";
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return "python3 " + script.string() + " " + folder + " failed (python3-matplotlib missing?)";
-  return "";
-}
-
 /// OpenMPI's mpirun ends the whole job when a rank dies unless --enable-recovery is given
 /// (it then sets OMPI_MCA_orte_enable_recovery=1 for the ranks): say so once, on rank 0.
 void noteRecovery(const RankSession& session) {
@@ -187,7 +169,7 @@ SweepResult sweepCommand(const SweepRequest& request) {
   dir->keep("sweep.png");  // drawn by scripts/plot_sweep.py after the commit
   dir->commit();
   res.directory = dir->final();
-  if (request.plots && !res.interruptedBy) res.plotNote = drawPlots(res.directory);
+  if (request.plots && !res.interruptedBy) res.plotNote = drawPlotScript("plot_sweep.py", res.directory);
   return res;
 }
 

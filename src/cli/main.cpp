@@ -1,5 +1,5 @@
 // flexsens command line: `flexsens run SCENE [...]`, `flexsens static SCENE`, `flexsens check SCENE`,
-// `flexsens modes SCENE`, `flexsens study`, `flexsens sweep SCENE` (cli/SweepCli.cpp), `flexsens gradient SCENE`. Exit codes: 0 success, 1 bad input (scene or
+// `flexsens modes SCENE`, `flexsens study`, `flexsens sweep SCENE` (cli/SweepCli.cpp), `flexsens gradient SCENE`, `flexsens optimize SCENE`. Exit codes: 0 success, 1 bad input (scene or
 // options), 2 numerical failure, 3 other error, 4 results could not be written or the output
 // folder was refused (it holds files flexsens did not write; nothing touched), 5 run completed
 // but suspect (energy audit), 6 the output folder is in use by another run of any kind (run,
@@ -14,6 +14,7 @@
 
 #include "app/Commands.hpp"
 #include "app/Gradient.hpp"
+#include "app/Optimize.hpp"
 #include "cli/SweepCli.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
@@ -167,6 +168,52 @@ int executeGradient(GradientArgs& a) {
   return 0;
 }
 
+// ------------------------------------------------------------------ optimize
+struct OptimizeArgs {
+  CLI::App* command = nullptr;
+  OptimizeRequest request;
+  bool noPlots = false;
+};
+
+void addOptimize(CLI::App& app, OptimizeArgs& a) {
+  auto* o = a.command = app.add_subcommand("optimize", "minimize an objective over design parameters within bounds, "
+                                                       "subject to objective bounds (the scene's optimize:), with NLopt");
+  o->add_option("scene", a.request.scenePath, "scene file (YAML)")->required();
+  o->add_option("--out", a.request.outDir, "output directory (default: <output.directory>-optimize)");
+  o->add_flag("--no-plots", a.noPlots, "do not draw history.png");
+}
+
+int executeOptimize(OptimizeArgs& a) {
+  a.request.plots = !a.noPlots;
+  installInterruptHandlers();
+  const OptimizeResult r = optimizeCommand(a.request);
+  std::cout << "optimization written to " << r.directory << "/ (history.csv, optimize.json, optimum.csv"
+            << (r.best >= 0 ? ", optimized.yaml" : "") << ")\n  status " << r.status << " (NLopt " << r.nloptResult
+            << "), " << r.history.size() << " evaluations, " << r.wallSeconds << " s wall\n";
+  if (!r.history.empty() && r.history.front().ok)
+    std::cout << "  " << r.objective << ": " << r.history.front().objective << " at the start";
+  if (r.best >= 0) std::cout << ", " << r.history[size_t(r.best)].objective << " at evaluation " << r.history[size_t(r.best)].index;
+  std::cout << "\n";
+  if (r.best >= 0) std::cout << "  KKT residual at the best point " << r.kktResidual << " (0 at a stationary point)\n";
+  if (!r.plotNote.empty()) std::cerr << "flexsens: note: history.png not drawn: " << r.plotNote << "\n";
+  if (r.failed >= 0) {
+    const OptimizeEvaluation& e = r.history[size_t(r.failed)];
+    std::cerr << "flexsens: evaluation " << e.index << " failed at";
+    for (size_t i = 0; i < r.variables.size() && i < 20; ++i) std::cerr << " " << r.variables[i] << " = " << e.x[Eigen::Index(i)];
+    std::cerr << (r.variables.size() > 20 ? " ... (optimize.json)" : "") << ": " << e.message
+              << "\nflexsens: the optimizer stopped; the best point so far is written (optimize.json status 'failed')\n";
+  }
+  if (r.interruptedBy) std::cerr << "flexsens: interrupted; the best point so far is written (optimize.json status 'interrupted')\n";
+  if (r.status == "stalled")
+    std::cerr << "flexsens: NLopt stopped (" << r.nloptResult << ") where the gradient is not stationary (KKT residual "
+              << r.kktResidual << " > 0.1): try algorithm slsqp, a feasible start or other bounds\n";
+  if (r.status == "max_evaluations" || r.status == "roundoff_limited" || r.status == "infeasible")
+    std::cerr << "flexsens: not converged: status " << r.status << " (optimize.json)\n";
+  if (r.status == "suspect")
+    std::cerr << "flexsens: SUSPECT optimum (optimize.json status 'suspect'): " << r.history[size_t(r.best)].message << "\n";
+  return r.exitCode();
+}
+
 // ------------------------------------------------------------------ modes, check, study
 struct ModesArgs {
   CLI::App* command = nullptr;
@@ -286,6 +333,7 @@ int main(int argc, char** argv) {
   StudyArgs study;
   SweepArgs sweep;
   GradientArgs gradient;
+  OptimizeArgs optimize;
   addRun(app, run);
   addStatic(app, statik);
   addCheck(app, check);
@@ -294,7 +342,10 @@ int main(int argc, char** argv) {
   addStudy(app, study);
   addSweep(app, sweep);
   addGradient(app, gradient);
-  addInputLimits({run.command, statik.command, check.command, modes.command, sweep.command, gradient.command}, limits);
+  addOptimize(app, optimize);
+  addInputLimits({run.command, statik.command, check.command, modes.command, sweep.command, gradient.command,
+                  optimize.command},
+                 limits);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -308,6 +359,7 @@ int main(int argc, char** argv) {
     if (*modes.command) return executeModes(modes);
     if (*check.command) return executeCheck(check);
     if (*gradient.command) return executeGradient(gradient);
+    if (*optimize.command) return executeOptimize(optimize);
     return executeRun(run);
   } catch (...) {
     return reportFailure();

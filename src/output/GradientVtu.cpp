@@ -24,8 +24,12 @@ bool hasPerElementParameters(const Model& m) {
   return false;
 }
 
-void writeGradientVtu(const std::string& path, const std::string& shown, const Model& m,
-                      const std::vector<std::pair<std::string, VecX>>& gradients) {
+namespace {
+
+/// The model's grid with one cell array per (field, family), named nameOf(field, family).
+template <class NameOf>
+void writeCellFields(const std::string& path, const std::string& shown, const Model& m,
+                     const std::vector<std::pair<std::string, VecX>>& gradients, NameOf nameOf) {
   StateWithSens s;  // the scene's positions, at rest
   s.x.q = m.initialPositions();
   s.x.v = VecX::Zero(m.n);
@@ -38,7 +42,7 @@ void writeGradientVtu(const std::string& path, const std::string& shown, const M
   for (const auto& [objective, g] : gradients)
     for (const auto& [family, byElement] : families) {
       vtkNew<vtkDoubleArray> a;
-      a->SetName(("d" + objective + "/d" + family).c_str());
+      a->SetName(nameOf(objective, family).c_str());
       a->SetNumberOfValues(grid->GetNumberOfCells());
       for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
         const auto it = ids ? byElement.find(ids->GetValue(c)) : byElement.end();
@@ -49,6 +53,18 @@ void writeGradientVtu(const std::string& path, const std::string& shown, const M
   const VtuWriteStatus st = writeVtuFile(grid, path);
   if (!st.ok)
     throw OutputError("cannot write " + shown + ": " + (st.err ? std::strerror(st.err) : "VTK error code " + std::to_string(st.code)));
+}
+
+}  // namespace
+
+void writeGradientVtu(const std::string& path, const std::string& shown, const Model& m,
+                      const std::vector<std::pair<std::string, VecX>>& gradients) {
+  writeCellFields(path, shown, m, gradients,
+                  [](const std::string& objective, const std::string& family) { return "d" + objective + "/d" + family; });
+}
+
+void writeParameterVtu(const std::string& path, const std::string& shown, const Model& m, const VecX& p) {
+  writeCellFields(path, shown, m, {{"", p}}, [](const std::string&, const std::string& family) { return family; });
 }
 
 }  // namespace flexsens

@@ -19,5 +19,8 @@ bool hasPerElementParameters(const Model& m);
 /// (objective name, dJ/dp over all parameters).
 void writeGradientVtu(const std::string& path, const std::string& shown, const Model& m,
                       const std::vector<std::pair<std::string, VecX>>& gradients);
+/// The same grid with the per-element parameters' values p (all parameters), one cell array
+/// per family named by it (`flexsens optimize`'s optimum.vtu: the optimized thicknesses).
+void writeParameterVtu(const std::string& path, const std::string& shown, const Model& m, const VecX& p);
 
 }  // namespace flexsens

@@ -15,7 +15,7 @@ namespace flexsens {
 
 struct ObjectiveSpec {
   std::string name;
-  /// terminal | integral | tracking | max | sum
+  /// terminal | integral | tracking | max | mass | sum
   std::string kind;
   int output = -1;  ///< index into Scene::outputs (not for sum)
   /// terminal: the time [s] (negative: t_end, or the last load step of `flexsens static`).
@@ -27,6 +27,8 @@ struct ObjectiveSpec {
   /// tracking: the target r(t), a time function or (when null) the CSV's piecewise-linear rows.
   std::shared_ptr<const TimeFunction> target;
   std::vector<double> targetTimes, targetValues;  ///< [s], [unit of the output]
+  /// mass: the body's elements (indices into Model::elements), app/BodyMass.hpp.
+  std::vector<int> elements;
   /// sum: (objective index, weight); the terms are objectives of the other kinds.
   std::vector<std::pair<int, double>> terms;
   /// "file:line:column: key 'objectives[i]'", for errors found later (times after --t-end).

@@ -2,6 +2,7 @@
 // aggregate) and weighted sums of these, each checked against the outputs and the run's times.
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "elements/SimplexShape.hpp"  // fmtNumber
@@ -23,7 +24,7 @@ double ObjectiveSpec::targetAt(double t) const {
 
 namespace {
 
-constexpr const char* kKinds = "terminal, integral, tracking, max or sum";
+constexpr const char* kKinds = "terminal, integral, tracking, max, mass or sum";
 
 /// Reads an objective's output name into spec.output; fails listing the scene's outputs.
 void readOutputName(const SceneContext& ctx, const YAML::Node& in, const std::string& path, const Scene& sc,
@@ -73,10 +74,31 @@ void readTargetCsv(const SceneContext& ctx, const YAML::Node& in, const std::str
                " s; give rows from the window's start to its end");
 }
 
+/// mass: {of: BODY}: the elements named BODY or BODY.<part> (a meshed body's cells) with mass.
+void readMassBody(SceneContext& ctx, const YAML::Node& in, const std::string& path, ObjectiveSpec& spec) {
+  const YamlReader& r = ctx.r;
+  r.allowKeys(in, path, {"of"});
+  const std::string body = r.text(r.require(in, "of", path), path + ".of");
+  std::string names;
+  std::set<std::string> bodies;
+  for (size_t e = 0; e < ctx.m.elements.size(); ++e) {
+    const std::string& name = ctx.m.elements[e]->name();
+    if (name == body || name.rfind(body + ".", 0) == 0) spec.elements.push_back(int(e));
+    const std::string owner = name.substr(0, name.find('.'));
+    if (bodies.insert(owner).second && names.size() < 400) names += (names.empty() ? "" : ", ") + owner;
+  }
+  if (spec.elements.empty())
+    r.fail(in["of"], path + ".of", "no element or meshed body named '" + body + "'; expected one of: " + names);
+}
+
 void readKind(SceneContext& ctx, const YAML::Node& in, const std::string& path, const Scene& sc, double tEnd,
               ObjectiveSpec& spec) {
   const YamlReader& r = ctx.r;
   r.requireMap(in, path);
+  if (spec.kind == "mass") {
+    readMassBody(ctx, in, path, spec);
+    return;
+  }
   if (spec.kind == "terminal") {
     r.allowKeys(in, path, {"output", "at"});
     readOutputName(ctx, in, path, sc, spec);
@@ -143,7 +165,7 @@ void readSum(const SceneContext& ctx, const YAML::Node& in, const std::string& p
 /// The entry's kind: exactly one of the kind keys.
 std::string kindOf(const YamlReader& r, const YAML::Node& o, const std::string& path) {
   std::string kind;
-  for (const char* k : {"terminal", "integral", "tracking", "max", "sum"})
+  for (const char* k : {"terminal", "integral", "tracking", "max", "mass", "sum"})
     if (o[k]) {
       if (!kind.empty()) r.fail(o[k], path + "." + k, "an objective has one kind; got " + kind + " and " + k);
       kind = k;
@@ -163,7 +185,7 @@ void readObjectives(SceneContext& ctx, const YAML::Node& list, Scene& sc) {
     const YAML::Node o = list[i];
     const std::string path = at("objectives", i);
     r.requireMap(o, path);
-    r.allowKeys(o, path, {"name", "terminal", "integral", "tracking", "max", "sum"});
+    r.allowKeys(o, path, {"name", "terminal", "integral", "tracking", "max", "mass", "sum"});
     ObjectiveSpec spec;
     spec.name = r.text(r.require(o, "name", path), path + ".name");
     for (const auto& other : sc.objectives)

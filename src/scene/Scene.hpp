@@ -11,6 +11,7 @@
 #include "integrators/State.hpp"
 #include "pim/Pim.hpp"
 #include "scene/Objective.hpp"
+#include "scene/OptimizeSpec.hpp"
 
 namespace flexsens {
 
@@ -66,6 +67,7 @@ struct Scene {
   SensitivitySettings sensitivity;
   std::vector<OutputSpec> outputs;
   std::vector<ObjectiveSpec> objectives;  ///< `objectives:` (scene/Objective.hpp)
+  OptimizeSpec optimize;                  ///< `optimize:` (scene/OptimizeSpec.hpp)
   OutputSettings output;
   std::vector<std::string> caseNames;  ///< all PIM cases the scene defines, in order
   /// Meshed body -> its Physical Points and node groups (name, node count), for `check`.

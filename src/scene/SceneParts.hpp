@@ -40,6 +40,8 @@ void readIntegrator(const YamlReader& r, const YAML::Node& in, IntegratorSetting
 void readOutputs(SceneContext& ctx, const YAML::Node& list, Scene& sc);
 /// `objectives:` (scene/Objective.hpp), after the outputs and the integrator.
 void readObjectives(SceneContext& ctx, const YAML::Node& list, Scene& sc);
+/// `optimize:` (scene/OptimizeSpec.hpp), after the parameters and the objectives.
+void readOptimize(SceneContext& ctx, const YAML::Node& in, Scene& sc);
 void readOutputSettings(const YamlReader& r, const YAML::Node& o, Scene& sc);
 
 }  // namespace flexsens

@@ -349,8 +349,8 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   SceneContext ctx(file, m);
   const YamlReader& r = ctx.r;
   r.allowKeys(root, "", {"dimension", "plane", "gravity", "geometry", "nodes", "elements", "constraints",
-                         "parameters", "integrator", "static", "outputs", "objectives", "output", "description", "cases",
-                         "limits"});
+                         "parameters", "integrator", "static", "outputs", "objectives", "optimize", "output", "description",
+                         "cases", "limits"});
   const YAML::Node dimNode = r.require(root, "dimension", "");
   m.dim = r.integer(dimNode, "dimension");
   if (m.dim != 2 && m.dim != 3) r.fail(dimNode, "dimension", "expected 2 or 3");
@@ -405,6 +405,7 @@ Scene build(const std::string& file, const YAML::Node& root, const std::string& 
   if (sc.hasIntegrator && !root["integrator"]["newton"] && hasMeshedBody(m)) sc.integrator.newton = "modified";
   if (root["outputs"]) readOutputs(ctx, root["outputs"], sc);
   if (root["objectives"]) readObjectives(ctx, root["objectives"], sc);
+  if (root["optimize"]) readOptimize(ctx, root["optimize"], sc);
   readOutputSettings(r, root["output"], sc);
   if (m.n == 0) r.fail(root["nodes"], "nodes", "the scene has no free node: nothing can move");
   requireMass(ctx, root, sc);
