@@ -8,6 +8,7 @@
 
 #include "app/Commands.hpp"
 #include "app/EnergyAudit.hpp"
+#include "app/IdasGradient.hpp"
 #include "app/Objectives.hpp"
 #include "core/Interrupt.hpp"
 #include "core/MemoryBudget.hpp"
@@ -168,10 +169,32 @@ MatX staticGradients(const Scene& sc, const std::vector<size_t>& sel, MatX& samp
   return G;
 }
 
+/// Integrator idas: the objectives in continuous time (app/IdasGradient.hpp), the energy audit on the run.
+GradientResult idasGradientResult(const Scene& sc, const Assembler& as, const VecX& p, const StateWithSens& start,
+                                  const std::vector<size_t>& sel, const GradientRequest& req,
+                                  std::chrono::steady_clock::time_point t0) {
+  struct NoFrames : Observer {
+    void frame(const StateWithSens&) override {}
+  } noFrames;
+  GradientResult res;
+  res.method = req.method;
+  for (const auto& par : sc.model->parameters) res.parameters.push_back(par.name);
+  const EnergyMeter meter(as, p);
+  EnergyAudit audit(meter, noFrames, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
+  std::vector<double> values;
+  const MatX G = idasGradients(sc, as, p, start, sel, req, audit, res, values);
+  for (size_t i = 0; i < sel.size(); ++i) res.objectives.push_back({sc.objectives[sel[i]].name, values[i], G.col(Eigen::Index(i))});
+  res.reason = audit.reason();
+  if (!res.reason.empty()) res.status = "suspect";
+  res.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
 void requireGradientMethod(const Scene& sc, const std::string& method) {
   if (method != "adjoint" && method != "forward")
     throw InputError("option --method: expected adjoint or forward, got '" + method + "'");
   const std::string& type = sc.integrator.type;
+  if (type == "idas") return;  // the continuous adjoint and IDAS' forward sensitivities (app/IdasGradient.hpp)
   if (method == "adjoint" && !hasAdjoint(type))
     throw InputError("option --method adjoint: integrator " + type + " has no discrete adjoint; the methods that have one: " +
                      kAdjointIntegrators + " (--integrator), or use --method forward with one of those");
@@ -205,6 +228,7 @@ GradientResult computeGradients(const Scene& sc, const GradientRequest& req) {
   Assembler as(m);
   const VecX p = m.nominalParameters();
   const StateWithSens start = initialState(as, p, sc.pimCase.get());
+  if (sc.integrator.type == "idas") return idasGradientResult(sc, as, p, start, sel, req, t0);
   StepGrid g{start.x.t, sc.integrator.dt, sc.integrator.tEnd, fixedStepCount(sc.integrator.tEnd - start.x.t, sc.integrator.dt)};
   GradientResult res;
   res.method = req.method;
@@ -267,6 +291,7 @@ GradientResult gradientCommand(const GradientRequest& req) {
   const std::vector<size_t> sel = selectedObjectives(sc, req.objective);
   if (statics) requireStaticObjectives(sc, sel);
   else requireGradientMethod(sc, req.method);
+  if (!statics && sc.integrator.type == "idas" && req.method == "adjoint") requireIdasAdjointObjectives(sc, sel);
   RunDirectory dir(outDir, "gradient");
   GradientResult res;
   try {

@@ -1,0 +1,64 @@
+// The continuous-time adjoint of an IDAS run (SUNDIALS IDAS' adjoint module) for objectives
+// G_i = integral over [t0, T] of g_i(t, y) dt on the GGL form F(t, y, y', p) = 0
+// (integrators/GglSystem.hpp). The forward pass is the IDAS run without sensitivities, with
+// IDAS' checkpoints (IDAAdjInit, Hermite interpolation between the stored steps); the backward
+// problem of each objective is the adjoint DAE
+//   F_y'^T yB' - F_y^T yB + g_y^T = 0,   F_y'^T yB(T) = 0
+// (F_y' = diag(I, M, 0, 0) is constant), solved from T back to t0 by IDASolveB with the
+// transposed iteration matrix -(F_y - cjB F_y')^T in the same sparse LU, and
+//   dG/dp = -integral of yB^T F_p dt + (F_y'^T yB)(t0) . dy0/dp
+// (IDAQuadB for the integral; dy0/dp the initial sensitivities, PIM case or least-norm rule).
+// This differentiates the exact solution, not the discrete one: it agrees with IDAS' forward
+// sensitivities to the integration tolerance, not to round-off.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "core/Assembler.hpp"
+#include "integrators/Adjoint.hpp"
+#include "integrators/Idas.hpp"
+#include "integrators/Settings.hpp"
+#include "integrators/State.hpp"
+
+namespace flexsens {
+
+class IdasStepper;
+
+/// IDAS steps between two checkpoints: `requested` when positive, else as many as a quarter
+/// of the memory budget holds (two vectors of `stateSize` doubles per step, Hermite), at most
+/// 5000 and at least 10.
+long idasCheckpointSteps(int stateSize, long requested);
+
+class IdasAdjoint {
+ public:
+  /// Adds dg_i/dq and dg_i/dv at time t [s] and state x into gq, gv (i = objective).
+  using Source = std::function<void(double t, const State& x, int objective, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv)>;
+
+  /// InputError for a model with massless coordinates (their algebraic adjoint is not set up).
+  IdasAdjoint(const Assembler& as, const VecX& p, const StateWithSens& start, const IntegratorSettings& set,
+              long stepsPerCheckpoint);
+  ~IdasAdjoint();
+  IdasAdjoint(const IdasAdjoint&) = delete;
+  IdasAdjoint& operator=(const IdasAdjoint&) = delete;
+
+  /// The forward pass (IDASolveF), `obs` and `afterStep` seeing it as in integrateIdas.
+  IntegratorStats forward(Observer& obs, const IdasStepHook& afterStep);
+  /// The backward problems, one per objective: dG_i/dp (parameters x objectives).
+  MatX backward(int objectives, const Source& source);
+  const AdjointStatistics& statistics() const { return st_; }
+
+  struct Backward;
+
+ private:
+  const Assembler& as_;
+  const VecX p_;
+  const StateWithSens& start_;
+  const IntegratorSettings set_;
+  std::vector<std::unique_ptr<Backward>> backward_;
+  std::unique_ptr<IdasStepper> stepper_;  ///< destroyed first (~IdasAdjoint): IDAS' memory before the B objects
+  AdjointStatistics st_;
+};
+
+}  // namespace flexsens
