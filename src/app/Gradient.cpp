@@ -197,9 +197,9 @@ void requireGradientMethod(const Scene& sc, const std::string& method) {
   if (type == "idas") return;  // the continuous adjoint and IDAS' forward sensitivities (app/IdasGradient.hpp)
   if (method == "adjoint" && !hasAdjoint(type))
     throw InputError("option --method adjoint: integrator " + type + " has no discrete adjoint; the methods that have one: " +
-                     kAdjointIntegrators + " (--integrator), or use --method forward with one of those");
+                     kAdjointIntegrators + " (--integrator), and idas its continuous adjoint; or use --method forward with one of those");
   if (method == "forward" && !hasAdjoint(type))
-    throw InputError("option --method forward: flexsens gradient integrates with a fixed-step scheme (" +
+    throw InputError("option --method forward: flexsens gradient integrates with idas or a fixed-step scheme (" +
                      std::string(kAdjointIntegrators) + "), not " + type + " (--integrator)");
 }
 

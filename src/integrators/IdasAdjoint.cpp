@@ -168,7 +168,7 @@ IntegratorStats IdasAdjoint::forward(Observer& obs, const IdasStepHook& afterSte
   StateWithSens plain;
   plain.x = start_.x;
   const IntegratorStats stats = integrateIdas(*stepper_, plain, set_, obs, afterStep);
-  st_.checkpoints = stepper_->checkpoints();
+  st_.checkpoints = stepper_->checkpoints() + 1;  // IDAS' count leaves out the one at the start
   st_.forwardSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }
