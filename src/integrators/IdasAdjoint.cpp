@@ -36,11 +36,11 @@ constexpr double kUntested = 1e30;
 
 /// One objective's backward problem: its callbacks' data and SUNDIALS objects.
 struct IdasAdjoint::Backward {
-  const Assembler* as;
-  const VecX* p;
-  const SpMat* M;
-  const Source* source;
-  int n, m, objective, which = -1;
+  const Assembler* as = nullptr;
+  const VecX* p = nullptr;
+  const SpMat* M = nullptr;
+  const Source* source = nullptr;
+  int n = 0, m = 0, objective = 0, which = -1;
   SparseAccumulator accResidual, accJacobian;
   SpMat zero;  ///< n x n: the sensitivity residual's Q_q, Q_v at zero sensitivity
   SparseLU lu;
@@ -120,20 +120,19 @@ int quadratureB(double t, N_Vector yy, N_Vector yp, N_Vector yyB, N_Vector, N_Ve
   }
 }
 
-/// IDAS' last error message in the backward pass.
-std::string lastIdasError;
-
-void errorHandler(int, const char* module, const char* function, char* msg, void*) {
-  if (lastIdasError.empty()) lastIdasError = std::string(module) + "/" + function + ": " + msg;  // the cause, not the echo
+/// Keeps IDAS' first error message (the cause; IDASolveB echoes it after) in *ud (a string).
+void errorHandler(int, const char* module, const char* function, char* msg, void* ud) {
+  auto& text = *static_cast<std::string*>(ud);
+  if (text.empty()) text = std::string(module) + "/" + function + ": " + msg;
 }
 
-void check(int flag, const char* fn, double t, const Backward* b) {
+void check(int flag, const char* fn, double t, const Backward* b, const std::string& idasError) {
   if (flag >= 0) return;
   std::unique_ptr<char, decltype(&std::free)> name(IDAGetReturnFlagName(flag), &std::free);
   std::ostringstream os;
   os << "IDAS adjoint: " << fn << " failed at t = " << t << " s with " << (name ? name.get() : "an unknown flag");
   if (b && !b->failure.empty()) os << " (" << b->failure << ")";
-  else if (!lastIdasError.empty()) os << " (" << lastIdasError << ")";
+  else if (!idasError.empty()) os << " (" << idasError << ")";
   if (b && !b->linearFailure.empty()) os << "; the last failed factorization: " << b->linearFailure;
   os << "; try a tighter or looser rtol/atol, a smaller maximum step (dt), or --method forward";
   throw NumericalError(os.str());
@@ -173,80 +172,95 @@ IntegratorStats IdasAdjoint::forward(Observer& obs, const IdasStepHook& afterSte
   return stats;
 }
 
+/// One objective's backward problem on IDAS' memory: yB(T) = 0 (no terminal term), yB_q and
+/// yB_v differential, the adjoint multipliers algebraic and out of the error test (as forward).
+void IdasAdjoint::addBackwardProblem(int objective, const Source& source, const VecX& y0) {
+  void* ida = stepper_->memory();
+  const int n = as_.n(), m = as_.m(), N = 2 * (n + m), np = int(p_.size());
+  const double T = set_.tEnd;
+  SUNContext ctx = stepper_->context();
+  backward_.push_back(std::make_unique<Backward>());
+  Backward& b = *backward_.back();
+  b.as = &as_;
+  b.p = &p_;
+  b.M = &mass_;
+  b.source = &source;
+  b.n = n;
+  b.m = m;
+  b.objective = objective;
+  b.zero = SpMat(n, n);
+  for (VectorPtr* v : {&b.yB, &b.ypB, &b.idB, &b.atolB}) v->reset(N_VNew_Serial(N, ctx));
+  b.qB.reset(N_VNew_Serial(std::max(np, 1), ctx));
+  for (VectorPtr* v : {&b.yB, &b.ypB, &b.idB, &b.qB}) view(v->get()).setZero();
+  view(b.idB.get()).head(2 * n).setOnes();
+  view(b.atolB.get()).setConstant(kUntested);
+  view(b.atolB.get()).head(2 * n).setConstant(set_.atol);
+  auto ok = [&](int flag, const char* fn) { check(flag, fn, T, &b, idasError_); };
+  ok(IDACreateB(ida, &b.which), "IDACreateB");
+  ok(IDAInitB(ida, b.which, residualB, T, b.yB.get(), b.ypB.get()), "IDAInitB");
+  ok(IDASetUserDataB(ida, b.which, &b), "IDASetUserDataB");
+  ok(IDASetErrHandlerFn(IDAGetAdjIDABmem(ida, b.which), errorHandler, &idasError_), "IDASetErrHandlerFn");
+  ok(IDASVtolerancesB(ida, b.which, set_.rtol, b.atolB.get()), "IDASVtolerancesB");
+  ok(IDASetIdB(ida, b.which, b.idB.get()), "IDASetIdB");
+  ok(IDASetSuppressAlgB(ida, b.which, SUNTRUE), "IDASetSuppressAlgB");
+  ok(IDASetMaxNumStepsB(ida, b.which, kMaxIdasStepsPerFrame), "IDASetMaxNumStepsB");
+  // (backwards in time: a negative first step; the same size as the forward one's)
+  ok(IDASetInitStepB(ida, b.which, -std::min(1e-6, 1e-3 * set_.frameInterval)), "IDASetInitStepB");
+  if (set_.dt > 0) ok(IDASetMaxStepB(ida, b.which, set_.dt), "IDASetMaxStepB");
+  // The matrix's size: the forward pattern at the start (the callback reallocates if it grows).
+  const Eigen::Index nnz = gglJacobian(as_, p_, y0, 1.0, b.accJacobian).nonZeros();
+  b.J.reset(SUNSparseMatrix(N, N, std::max<Eigen::Index>(1, nnz), CSC_MAT, ctx));
+  b.LS.reset(sparseLULinearSolver(ctx, b.lu, b.linearFailure));
+  if (!b.J || !b.LS) throw NumericalError("IDAS adjoint: could not create the sparse LU linear solver");
+  ok(IDASetLinearSolverB(ida, b.which, b.LS.get(), b.J.get()), "IDASetLinearSolverB");
+  ok(IDASetJacFnB(ida, b.which, jacobianB), "IDASetJacFnB");
+  ok(IDAQuadInitB(ida, b.which, quadratureB, b.qB.get()), "IDAQuadInitB");
+  ok(IDAQuadSStolerancesB(ida, b.which, set_.rtol, set_.atol), "IDAQuadSStolerancesB");
+  ok(IDASetQuadErrConB(ida, b.which, SUNTRUE), "IDASetQuadErrConB");
+}
+
+/// dG/dp at t0 from the backward problem b: -integral yB^T F_p dt + (F_y'^T yB)(t0) . dy0/dp.
+VecX IdasAdjoint::gradientAtStart(Backward& b) {
+  void* ida = stepper_->memory();
+  const double tStart = start_.x.t;
+  const int n = as_.n();
+  double tret = tStart;
+  check(IDAGetB(ida, b.which, &tret, b.yB.get(), b.ypB.get()), "IDAGetB", tStart, &b, idasError_);
+  check(IDAGetQuadB(ida, b.which, &tret, b.qB.get()), "IDAGetQuadB", tStart, &b, idasError_);
+  const auto lB = view(b.yB.get());
+  VecX g(p_.size());
+  for (Eigen::Index k = 0; k < g.size(); ++k) {
+    const State& s0 = start_.dp[size_t(k)];
+    g[k] = view(b.qB.get())[k] + lB.head(n).dot(s0.q) + lB.segment(n, n).dot(mass_ * s0.v);
+  }
+  void* mb = IDAGetAdjIDABmem(ida, b.which);
+  long steps = 0, setups = 0;
+  check(IDAGetNumSteps(mb, &steps), "IDAGetNumSteps", tStart, &b, idasError_);
+  check(IDAGetNumLinSolvSetups(mb, &setups), "IDAGetNumLinSolvSetups", tStart, &b, idasError_);
+  st_.backwardSteps += steps;
+  st_.backwardFactorizations += setups;
+  return g;
+}
+
 MatX IdasAdjoint::backward(int objectives, const Source& source) {
   const auto t0 = std::chrono::steady_clock::now();
   void* ida = stepper_->memory();
-  const int n = as_.n(), m = as_.m(), N = 2 * (n + m), np = int(p_.size());
-  const double T = set_.tEnd, tStart = start_.x.t;
-  const SpMat M = as_.mass(p_);
-  lastIdasError.clear();
-  check(IDASetErrHandlerFn(ida, errorHandler, nullptr), "IDASetErrHandlerFn", T, nullptr);
-  VecX y0 = VecX::Zero(N);  // the start, to size the matrices' pattern
-  y0 << start_.x.q, start_.x.v, start_.x.lambda, VecX::Zero(m);
+  const double tStart = start_.x.t;
+  mass_ = as_.mass(p_);
+  idasError_.clear();
+  check(IDASetErrHandlerFn(ida, errorHandler, &idasError_), "IDASetErrHandlerFn", set_.tEnd, nullptr, idasError_);
+  VecX y0(2 * (as_.n() + as_.m()));
+  y0 << start_.x.q, start_.x.v, start_.x.lambda, VecX::Zero(as_.m());
   as_.setTime(tStart);
-  for (int i = 0; i < objectives; ++i) {
-    backward_.push_back(std::make_unique<Backward>());
-    Backward& b = *backward_.back();
-    b.as = &as_;
-    b.p = &p_;
-    b.M = &M;
-    b.source = &source;
-    b.n = n;
-    b.m = m;
-    b.objective = i;
-    b.zero = SpMat(n, n);
-    SUNContext ctx = stepper_->context();
-    b.yB.reset(N_VNew_Serial(N, ctx));
-    b.ypB.reset(N_VNew_Serial(N, ctx));
-    b.qB.reset(N_VNew_Serial(std::max(np, 1), ctx));
-    b.idB.reset(N_VNew_Serial(N, ctx));
-    b.atolB.reset(N_VNew_Serial(N, ctx));
-    view(b.yB.get()).setZero();  // F_y'^T yB(T) = 0: no terminal term
-    view(b.ypB.get()).setZero();
-    view(b.qB.get()).setZero();
-    view(b.idB.get()).setZero();
-    view(b.idB.get()).head(2 * n).setOnes();  // yB_q, yB_v differential, the rest algebraic
-    view(b.atolB.get()).setConstant(kUntested);
-    view(b.atolB.get()).head(2 * n).setConstant(set_.atol);
-    check(IDACreateB(ida, &b.which), "IDACreateB", T, &b);
-    check(IDAInitB(ida, b.which, residualB, T, b.yB.get(), b.ypB.get()), "IDAInitB", T, &b);
-    check(IDASetUserDataB(ida, b.which, &b), "IDASetUserDataB", T, &b);
-    check(IDASetErrHandlerFn(IDAGetAdjIDABmem(ida, b.which), errorHandler, nullptr), "IDASetErrHandlerFn", T, &b);
-    check(IDASVtolerancesB(ida, b.which, set_.rtol, b.atolB.get()), "IDASVtolerancesB", T, &b);
-    check(IDASetIdB(ida, b.which, b.idB.get()), "IDASetIdB", T, &b);
-    check(IDASetSuppressAlgB(ida, b.which, SUNTRUE), "IDASetSuppressAlgB", T, &b);
-    check(IDASetMaxNumStepsB(ida, b.which, kMaxIdasStepsPerFrame), "IDASetMaxNumStepsB", T, &b);
-    check(IDASetInitStepB(ida, b.which, -std::min(1e-6, 1e-3 * set_.frameInterval)), "IDASetInitStepB", T, &b);
-    if (set_.dt > 0) check(IDASetMaxStepB(ida, b.which, set_.dt), "IDASetMaxStepB", T, &b);
-    // The matrix's pattern: the forward one transposed (assembled once to size it).
-    b.J.reset(SUNSparseMatrix(N, N, std::max<Eigen::Index>(1, gglJacobian(as_, p_, y0, 1.0, b.accJacobian).nonZeros()),
-                              CSC_MAT, ctx));
-    b.LS.reset(sparseLULinearSolver(ctx, b.lu, b.linearFailure));
-    check(IDASetLinearSolverB(ida, b.which, b.LS.get(), b.J.get()), "IDASetLinearSolverB", T, &b);
-    check(IDASetJacFnB(ida, b.which, jacobianB), "IDASetJacFnB", T, &b);
-    check(IDAQuadInitB(ida, b.which, quadratureB, b.qB.get()), "IDAQuadInitB", T, &b);
-    check(IDAQuadSStolerancesB(ida, b.which, set_.rtol, set_.atol), "IDAQuadSStolerancesB", T, &b);
-    check(IDASetQuadErrConB(ida, b.which, SUNTRUE), "IDASetQuadErrConB", T, &b);
+  for (int i = 0; i < objectives; ++i) addBackwardProblem(i, source, y0);
+  if (const int flag = IDASolveB(ida, tStart, IDA_NORMAL); flag < 0) {
+    const Backward* failed = backward_.front().get();  // the one whose callback failed, if any
+    for (const auto& b : backward_)
+      if (!b->failure.empty()) failed = b.get();
+    check(flag, "IDASolveB", tStart, failed, idasError_);
   }
-  check(IDASolveB(ida, tStart, IDA_NORMAL), "IDASolveB", tStart, backward_.empty() ? nullptr : backward_.front().get());
-  MatX G(np, objectives);
-  for (int i = 0; i < objectives; ++i) {
-    Backward& b = *backward_[size_t(i)];
-    double tret = tStart;
-    check(IDAGetB(ida, b.which, &tret, b.yB.get(), b.ypB.get()), "IDAGetB", tStart, &b);
-    check(IDAGetQuadB(ida, b.which, &tret, b.qB.get()), "IDAGetQuadB", tStart, &b);
-    const auto lB = view(b.yB.get());
-    for (int k = 0; k < np; ++k) {
-      const State& s0 = start_.dp[size_t(k)];  // (F_y'^T yB)(t0) . dy0/dp_k
-      G(k, i) = view(b.qB.get())[k] + lB.head(n).dot(s0.q) + lB.segment(n, n).dot(M * s0.v);
-    }
-    void* mb = IDAGetAdjIDABmem(ida, b.which);
-    long steps = 0, setups = 0;
-    IDAGetNumSteps(mb, &steps);
-    IDAGetNumLinSolvSetups(mb, &setups);
-    st_.backwardSteps += steps;
-    st_.backwardFactorizations += setups;
-  }
+  MatX G(p_.size(), objectives);
+  for (int i = 0; i < objectives; ++i) G.col(i) = gradientAtStart(*backward_[size_t(i)]);
   st_.backwardSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return G;
 }

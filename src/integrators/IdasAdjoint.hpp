@@ -14,6 +14,7 @@
 
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/Assembler.hpp"
@@ -52,10 +53,15 @@ class IdasAdjoint {
   struct Backward;
 
  private:
+  void addBackwardProblem(int objective, const Source& source, const VecX& y0);
+  VecX gradientAtStart(Backward& b);
+
   const Assembler& as_;
   const VecX p_;
   const StateWithSens& start_;
   const IntegratorSettings set_;
+  SpMat mass_;                ///< M(p), constant: F_y' = diag(I, M, 0, 0)
+  std::string idasError_;     ///< IDAS' first error message of the backward pass
   std::vector<std::unique_ptr<Backward>> backward_;
   std::unique_ptr<IdasStepper> stepper_;  ///< destroyed first (~IdasAdjoint): IDAS' memory before the B objects
   AdjointStatistics st_;
