@@ -440,7 +440,11 @@ int IdasStepper::Impl::step(double tout, bool updateTolerances) {
   double hNext = 0.0;
   check(IDAGetCurrentStep(ida, &hNext), "IDAGetCurrentStep", t);
   const double left = tout - t;
-  const double stop = (left < 0.5 * hNext || left >= 2.0 * hNext) ? farStop  // step past / not yet
+  // With the adjoint's checkpoints no frame stops a step: IDASolveB recomputes each interval
+  // between checkpoints from its checkpoint without them, and an interval recomputed with more
+  // steps than IDAS stored for it overruns IDAS' step array (a segfault in IDASolveB: the
+  // ANCF pendulum with a checkpoint every 50 steps).
+  const double stop = (adjoint || left < 0.5 * hNext || left >= 2.0 * hNext) ? farStop  // step past / not yet
                       : (left <= hNext) ? tout                                // land
                                         : t + 0.5 * left;  // two steps of left/2 >= hNext/2
   if (stop != stopSet) {
