@@ -261,9 +261,11 @@ std::string gradientJson(const GradientResult& r, bool single) {
         << ", \"max_constraint_violation\": " << jsonNumber(s.maxConstraintViolation);
   if (r.method == "adjoint") {
     const AdjointStatistics& a = r.adjoint;
-    stats << ", \"checkpoint_every\": " << a.checkpointEvery << ", \"checkpoints\": " << a.checkpoints
-          << ", \"recomputed_steps\": " << a.recomputedSteps << ", \"peak_states\": " << a.peakStates
-          << ", \"peak_state_bytes\": " << jsonNumber(a.peakStateBytes) << ", \"backward_steps\": " << a.backwardSteps
+    stats << ", \"checkpoint_every\": " << a.checkpointEvery << ", \"checkpoints\": " << a.checkpoints;
+    if (a.peakStates > 0)  // (the discrete adjoint's own storage; IDAS keeps its own, not counted)
+      stats << ", \"recomputed_steps\": " << a.recomputedSteps << ", \"peak_states\": " << a.peakStates
+            << ", \"peak_state_bytes\": " << jsonNumber(a.peakStateBytes);
+    stats << ", \"backward_steps\": " << a.backwardSteps
           << ", \"backward_factorizations\": " << a.backwardFactorizations
           << ", \"forward_pass_s\": " << jsonNumber(a.forwardSeconds) << ", \"backward_pass_s\": " << jsonNumber(a.backwardSeconds);
   }
