@@ -3,7 +3,8 @@
 // tolerance tied to rtol) and against central differences of whole IDAS runs at a tighter
 // tolerance whose objectives the test integrates itself (Simpson's rule on 1 ms frames), for a
 // rigid pendulum whose PIM case gives non-zero initial sensitivities and an ANCF cable pendulum;
-// and the refusals (a terminal objective, massless coordinates).
+// terminal objectives at t_end (the adjoint's terminal condition); and the refusals (a
+// terminal objective before t_end, massless coordinates).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -42,6 +43,7 @@ integrator: {type: idas, t_end: 1.0, rtol: 1.0e-8, atol: 1.0e-10, frame_interval
 outputs:
   - {name: tip_x, node: tip, component: x}
   - {name: tip_y, node: tip, component: y}
+  - {name: tip_vy, node: tip, component: y, quantity: velocity}
 objectives:
   - {name: y_sq, integral: {output: tip_y, power: 2}}
   - {name: x_track, tracking: {output: tip_x, target: {type: linear, slope: 0.2}, from: 0.2, to: 0.8}}
@@ -194,13 +196,14 @@ objectives:
   - {name: y_sq, integral: {output: y_tip, power: 2}}
   - {name: x_track, tracking: {output: x_tip, target: {type: linear, slope: 0.2}, from: 0.1, to: 0.25}}
   - {name: y_low, max: {output: y_tip, rho: 10}}
+  - {name: y_end, terminal: {output: y_tip}}
 )", "pendulum.yaml", "");
   RunOptions opt;
   opt.integrator = "idas";
   opt.tEnd = 0.3;
   applyOptions(sc, opt);
   const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint");
-  ASSERT_EQ(adj.objectives.size(), 3u);
+  ASSERT_EQ(adj.objectives.size(), 4u);
   EXPECT_LT(worstRelative(adj, fw, 1e-12), 100 * sc.integrator.rtol);
   for (const auto& o : adj.objectives) EXPECT_NE(o.gradient[0], 0.0) << o.name;  // E matters
   // A checkpoint every 50 steps (this segfaulted inside IDASolveB while frames stopped the
@@ -212,30 +215,39 @@ objectives:
   EXPECT_LT(worstRelative(every50, fw, 1e-12), 100 * sc.integrator.rtol);
 }
 
-TEST(GradientIdas, TerminalObjectivesByForwardSensitivitiesAndRefusedByTheAdjoint) {
+TEST(GradientIdas, TerminalObjectivesAtTheEndByBothMethodsBeforeItByForwardOnly) {
   const std::string text = std::string(kPendulum) + "  - {name: y_end, terminal: {output: tip_y}}\n"
-                                                    "  - {name: x_mid, terminal: {output: tip_x, at: 0.5}}\n";
+                                                    "  - {name: x_end, terminal: {output: tip_x}}\n"
+                                                    "  - {name: vy_end, terminal: {output: tip_vy}}\n"
+                                                    "  - {name: x_mid, terminal: {output: tip_x, at: 0.5}}\n"
+                                                    "  - {name: both, sum: [{objective: y_end, weight: 2}, {objective: y_sq, weight: -1}]}\n";
   const Scene sc = readSceneText(text, "pendulum.yaml", "same_x");
-  // Forward: the outputs' sensitivities at t_end and 0.5 s, against central differences of
-  // the frames there (rtol 1e-11 runs).
-  for (const auto& [name, frame, output] : {std::tuple{"y_end", 1000, 1}, std::tuple{"x_mid", 500, 0}}) {
+  // Forward: the outputs' sensitivities at t_end and 0.5 s; the adjoint at t_end (its terminal
+  // condition: the projections onto the constraints' null space); both against central
+  // differences of the frames there (rtol 1e-11 runs).
+  for (const auto& [name, frame, output] : {std::tuple{"y_end", 1000, 1}, std::tuple{"x_end", 1000, 0},
+                                           std::tuple{"vy_end", 1000, 2}, std::tuple{"x_mid", 500, 0}}) {
     const GradientResult fw = gradients(sc, "forward", name);
+    const bool atEnd = frame == 1000;
+    const GradientResult adj = atEnd ? gradients(sc, "adjoint", name) : fw;
     for (int k = 0; k < 2; ++k) {
       const double d = 3e-5 * sc.model->nominalParameters()[k];
       const double nd = (outputAtFrame("same_x", k, d, frame, output) - outputAtFrame("same_x", k, -d, frame, output)) / (2 * d);
       EXPECT_NEAR(fw.objectives[0].gradient[k], nd, 1e-5 * std::max(std::abs(nd), 1e-2)) << name << " " << k;
+      EXPECT_NEAR(adj.objectives[0].gradient[k], nd, 1e-5 * std::max(std::abs(nd), 1e-2)) << name << " adjoint " << k;
     }
   }
-  // Adjoint: refused, naming the alternatives; the other objectives alone are fine.
+  const GradientResult fw = gradients(sc, "forward", "both"), adj = gradients(sc, "adjoint", "both");
+  EXPECT_LT(worstRelative(adj, fw, 1e-2), 1e-5);
+  // Before t_end the adjoint refuses, naming the alternatives.
   try {
     gradients(sc, "adjoint");
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("objective 'y_end'"), std::string::npos) << what;
+    EXPECT_NE(what.find("objective 'x_mid'"), std::string::npos) << what;
     EXPECT_NE(what.find("use --method forward, or a fixed-step integrator"), std::string::npos) << what;
   }
-  EXPECT_NO_THROW(gradients(sc, "adjoint", "mix"));
 }
 
 TEST(GradientIdas, MasslessCoordinatesAreRefusedByTheAdjoint) {
@@ -283,11 +295,11 @@ TEST(GradientIdasCli, AdjointWritesGradientJsonAndRefusesATerminalObjectiveBefor
   const std::string dir = testing::TempDir() + "flexsens_gradient_idas_cli";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  std::ofstream(dir + "/p.yaml") << kPendulum << "  - {name: y_end, terminal: {output: tip_y}}\n";
+  std::ofstream(dir + "/p.yaml") << kPendulum << "  - {name: y_mid, terminal: {output: tip_y, at: 0.5}}\n";
   std::string err;
   EXPECT_EQ(flexsensCli("gradient " + dir + "/p.yaml --out " + dir + "/h", dir, err), 1);
   EXPECT_NE(err.find("p.yaml:"), std::string::npos) << err;  // the objective's file and line
-  EXPECT_NE(err.find("a terminal objective has no continuous adjoint on integrator idas"), std::string::npos) << err;
+  EXPECT_NE(err.find("a terminal objective before t_end (at) has no continuous adjoint on integrator idas"), std::string::npos) << err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/h"));
   ASSERT_EQ(flexsensCli("gradient " + dir + "/p.yaml --objective y_sq --out " + dir + "/g", dir, err), 0) << err;
   std::ifstream in(dir + "/g/gradient.json");

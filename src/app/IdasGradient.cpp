@@ -74,11 +74,16 @@ class ContinuousObjectives {
     }
     return G;
   }
+  /// The adjoint's terminal part of objective i at t_end: dphi/dq, dphi/dv added into gq, gv.
+  void addTerminalGradient(const State& x, int i, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv) const {
+    for (const auto& [k, w] : terms_[size_t(i)])
+      if (spec(k).kind == "terminal") sc_.outputs[size_t(spec(k).output)].addGradient(*sc_.model, x, w, gq, gv);
+  }
   /// The adjoint's source of objective i at (t, x): dg/dq, dg/dv added into gq, gv.
   void addSource(double t, const State& x, int i, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv) const {
     for (const auto& [k, w] : terms_[size_t(i)]) {
       const ObjectiveSpec& o = spec(k);
-      if (t < o.from || t > windowEnd(o)) continue;
+      if (o.kind == "terminal" || t < o.from || t > windowEnd(o)) continue;
       const OutputSpec& out = sc_.outputs[size_t(o.output)];
       const double value = out.value(*sc_.model, x);
       double dgdo = integrand(o, value, t).second;
@@ -156,10 +161,11 @@ void requireIdasAdjointObjectives(const Scene& sc, const std::vector<size_t>& se
     std::vector<std::pair<int, double>> terms = sc.objectives[i].terms;
     if (sc.objectives[i].kind != "sum") terms = {{int(i), 1.0}};
     for (const auto& [k, w] : terms)
-      if (sc.objectives[size_t(k)].kind == "terminal")
-        throw InputError(sc.objectives[size_t(k)].where + ": objective '" + sc.objectives[size_t(k)].name +
-                         "': a terminal objective has no continuous adjoint on integrator idas (its index-2 terminal "
-                         "condition is not set up); use --method forward, or a fixed-step integrator (" +
+      if (const ObjectiveSpec& o = sc.objectives[size_t(k)];
+          o.kind == "terminal" && o.at >= 0 && o.at < sc.integrator.tEnd * (1.0 - 1e-12))
+        throw InputError(o.where + ": objective '" + o.name +
+                         "': a terminal objective before t_end (at) has no continuous adjoint on integrator idas (only "
+                         "at t_end); use --method forward, or a fixed-step integrator (" +
                          kAdjointIntegrators + ") whose discrete adjoint has it");
   }
 }
@@ -180,9 +186,10 @@ MatX idasGradients(const Scene& sc, const Assembler& as, const VecX& p, const St
     requireIdasAdjointObjectives(sc, sel);
     IdasAdjoint adjoint(as, p, start, set, req.checkpointEvery);
     res.stats = adjoint.forward(audit, hook);
-    G = adjoint.backward(int(sel.size()), [&](double t, const State& x, int i, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv) {
-      objectives.addSource(t, x, i, gq, gv);
-    });
+    G = adjoint.backward(
+        int(sel.size()),
+        [&](double t, const State& x, int i, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv) { objectives.addSource(t, x, i, gq, gv); },
+        [&](const State& x, int i, Eigen::Ref<VecX> gq, Eigen::Ref<VecX> gv) { objectives.addTerminalGradient(x, i, gq, gv); });
     res.adjoint = adjoint.statistics();
   }
   res.steps = res.stats.steps;

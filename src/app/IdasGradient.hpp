@@ -6,7 +6,8 @@
 //   max       J = m + ln(integral over [from, to] of exp(rho (o - m)) dt / (to - from)) / rho,
 //             the KS mean of the continuous output (m its largest sample): J <= max o, -> max o
 //             as rho grows
-//   terminal  J = o(at) (forward only: the index-2 adjoint's terminal condition is not set up)
+//   terminal  J = o(at); the adjoint takes at = t_end only (its terminal condition; a jump
+//             condition inside the run is not set up)
 //   sum       J = sum_j weight_j J_j
 // The integrals are 3-point Gauss-Legendre rules on every IDAS step (the step's interpolating
 // polynomial), so J and its gradient carry the integration tolerance, not round-off.
@@ -18,7 +19,7 @@
 
 namespace flexsens {
 
-/// InputError when objective sel[i] (or a term of it) is terminal and the method adjoint.
+/// InputError when objective sel[i] (or a term of it) is terminal before t_end (method adjoint).
 void requireIdasAdjointObjectives(const Scene& sc, const std::vector<size_t>& sel);
 
 /// The values (one per selected objective) and gradients (parameters x objectives) on an IDAS

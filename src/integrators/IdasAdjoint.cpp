@@ -172,9 +172,10 @@ IntegratorStats IdasAdjoint::forward(Observer& obs, const IdasStepHook& afterSte
   return stats;
 }
 
-/// One objective's backward problem on IDAS' memory: yB(T) = 0 (no terminal term), yB_q and
+/// One objective's backward problem on IDAS' memory from yB(T) = yBT, yB'(T) = ypBT; yB_q and
 /// yB_v differential, the adjoint multipliers algebraic and out of the error test (as forward).
-void IdasAdjoint::addBackwardProblem(int objective, const Source& source, const VecX& y0) {
+void IdasAdjoint::addBackwardProblem(int objective, const Source& source, const VecX& y0, const VecX& yBT,
+                                     const VecX& ypBT) {
   void* ida = stepper_->memory();
   const int n = as_.n(), m = as_.m(), N = 2 * (n + m), np = int(p_.size());
   const double T = set_.tEnd;
@@ -192,6 +193,8 @@ void IdasAdjoint::addBackwardProblem(int objective, const Source& source, const 
   for (VectorPtr* v : {&b.yB, &b.ypB, &b.idB, &b.atolB}) v->reset(N_VNew_Serial(N, ctx));
   b.qB.reset(N_VNew_Serial(std::max(np, 1), ctx));
   for (VectorPtr* v : {&b.yB, &b.ypB, &b.idB, &b.qB}) view(v->get()).setZero();
+  view(b.yB.get()) = yBT;
+  view(b.ypB.get()) = ypBT;
   view(b.idB.get()).head(2 * n).setOnes();
   view(b.atolB.get()).setConstant(kUntested);
   view(b.atolB.get()).head(2 * n).setConstant(set_.atol);
@@ -242,7 +245,88 @@ VecX IdasAdjoint::gradientAtStart(Backward& b) {
   return g;
 }
 
-MatX IdasAdjoint::backward(int objectives, const Source& source) {
+/// x = (u, l) with B u + Phi_q^T l = rhs_u, Phi_q u = rhs_l at q, B = M (massMetric) or I.
+VecX IdasAdjoint::saddleSolve(bool massMetric, const VecX& q, const VecX& rhs) const {
+  const int n = as_.n(), m = as_.m();
+  SparseAccumulator acc;
+  acc.begin(n + m, n + m);
+  if (massMetric) as_.addMass(acc, p_, 1.0, 0, 0);
+  else for (int i = 0; i < n; ++i) acc.add(i, i, 1.0);
+  if (m) {
+    as_.addPhiQ(acc, q, p_, 1.0, 0, n, true);
+    as_.addPhiQ(acc, q, p_, 1.0, n, 0, false);
+  }
+  SparseLU lu;
+  lu.factor(acc.finish(), [&]() { return "IDAS adjoint: the projection onto the constraints at t = " + std::to_string(set_.tEnd) + " s"; });
+  return lu.solve(rhs);
+}
+
+/// (Phi_q v + Phi_t)_q^T w = H(w) v + Phi_qt^T w at the final state.
+VecX IdasAdjoint::velocityConstraintGradientTimes(const State& xT, const VecX& w) const {
+  if (as_.m() == 0) return VecX::Zero(as_.n());
+  SparseAccumulator qt;
+  qt.begin(as_.m(), as_.n());
+  as_.addPhiQT(qt, xT.q, p_, 1.0, 0, 0);
+  return as_.hessianTimes(xT.q, p_, w, xT.v) + qt.finish().transpose() * w;
+}
+
+/// The terminal values yB(T) = (a_q, a_v, 0, 0) for phi(q(T), v(T)) and the explicit term c_p:
+///   M a_v + Phi_q^T w = phi_v,  Phi_q a_v = 0;   a_q + Phi_q^T z = phi_q - (Phi_q v + Phi_t)_q^T w,  Phi_q a_q = 0
+/// (then phi_y s - a_q . s_q - a_v . M s_v = -w . (Phi_q v + Phi_t)_p - z . Phi_p for every s(T)
+/// with Phi_q s_q + Phi_p = 0 and Phi_q s_v + (Phi_q v + Phi_t)_q s_q + (Phi_q v + Phi_t)_p = 0).
+VecX IdasAdjoint::terminalCondition(const State& xT, const VecX& phiQ, const VecX& phiV, VecX& yBT) const {
+  const int n = as_.n(), m = as_.m();
+  const VecX& q = xT.q;
+  VecX rhs = VecX::Zero(n + m);
+  rhs.head(n) = phiV;
+  const VecX xv = saddleSolve(true, q, rhs);
+  const VecX w = xv.tail(m);
+  rhs.head(n) = phiQ - velocityConstraintGradientTimes(xT, w);
+  const VecX xq = saddleSolve(false, q, rhs);
+  const VecX z = xq.tail(m);
+  yBT.head(n) = xq.head(n);
+  yBT.segment(n, n) = xv.head(n);
+  VecX c = VecX::Zero(p_.size());
+  for (Eigen::Index k = 0; m && k < c.size(); ++k)
+    c[k] = -w.dot(as_.phiQParamDerivativeTimes(q, p_, int(k), xT.v) + as_.phiTParamDerivative(q, p_, int(k))) -
+           z.dot(as_.phiParamDerivative(q, p_, int(k)));
+  return c;
+}
+
+/// Given yB_q = a_q, yB_v = a_v at T (in the null space of Phi_q), the adjoint multipliers
+/// a_phi, a_psi and the derivatives a_q', a_v' that satisfy the backward DAE and the derivatives
+/// of its constraints Phi_q a = 0 (q' = v):
+///   M a_v' - Phi_q^T a_psi = r_v,  Phi_q a_v' = -(d/dt Phi_q) a_v
+///   a_q' - Phi_q^T a_phi = r_q + (Phi_q v + Phi_t)_q^T a_psi,  Phi_q a_q' = -(d/dt Phi_q) a_q
+/// with r = F_y^T (a_q, a_v, 0, 0) - g_y. Zeros there made IDAS' first backward step fail its
+/// error test down to h ~ 1e-12 s (ANCF pendulum, terminal y_tip).
+void IdasAdjoint::consistentStart(const State& xT, const VecX& yT, int objective, const Source& source, VecX& yBT,
+                                  VecX& ypBT) {
+  const int n = as_.n(), m = as_.m();
+  const VecX& q = xT.q;
+  as_.setTime(set_.tEnd);
+  SparseAccumulator acc;
+  VecX r = gglJacobian(as_, p_, yT, 0.0, acc).transpose() * yBT;
+  VecX g = VecX::Zero(2 * n);
+  source(set_.tEnd, xT, objective, g.head(n), g.segment(n, n));
+  r.head(2 * n) -= g;
+  auto rate = [&](const VecX& a) {  // (d/dt Phi_q) a
+    return VecX(as_.hessianRowsTimes(q, p_, xT.v, a) + as_.phiQTTimes(q, p_, a));
+  };
+  VecX rhs(n + m);
+  rhs << r.segment(n, n), -rate(yBT.segment(n, n));
+  const VecX xv = saddleSolve(true, q, rhs);  // (a_v', -a_psi)
+  const VecX aPsi = -xv.tail(m);
+  rhs << r.head(n) + velocityConstraintGradientTimes(xT, aPsi), -rate(yBT.head(n));
+  const VecX xq = saddleSolve(false, q, rhs);  // (a_q', -a_phi)
+  ypBT = VecX::Zero(yBT.size());
+  ypBT.head(n) = xq.head(n);
+  ypBT.segment(n, n) = xv.head(n);
+  yBT.segment(2 * n, m) = -xq.tail(m);
+  yBT.segment(2 * n + m, m) = aPsi;
+}
+
+MatX IdasAdjoint::backward(int objectives, const Source& source, const Terminal& terminal) {
   const auto t0 = std::chrono::steady_clock::now();
   void* ida = stepper_->memory();
   const double tStart = start_.x.t;
@@ -252,7 +336,18 @@ MatX IdasAdjoint::backward(int objectives, const Source& source) {
   VecX y0(2 * (as_.n() + as_.m()));
   y0 << start_.x.q, start_.x.v, start_.x.lambda, VecX::Zero(as_.m());
   as_.setTime(tStart);
-  for (int i = 0; i < objectives; ++i) addBackwardProblem(i, source, y0);
+  // The terminal parts at T (IDAS' last step covers T: the forward pass ended there or beyond).
+  const State xT = stepper_->stateAt(set_.tEnd).x;
+  VecX yT(y0.size());
+  yT << xT.q, xT.v, xT.lambda, VecX::Zero(as_.m());  // (mu = 0 on the exact solution)
+  MatX terminalTerms = MatX::Zero(p_.size(), objectives);
+  for (int i = 0; i < objectives; ++i) {
+    VecX phiQ = VecX::Zero(as_.n()), phiV = VecX::Zero(as_.n()), yBT = VecX::Zero(y0.size()), ypBT;
+    if (terminal) terminal(xT, i, phiQ, phiV);
+    if (!phiQ.isZero(0.0) || !phiV.isZero(0.0)) terminalTerms.col(i) = terminalCondition(xT, phiQ, phiV, yBT);
+    consistentStart(xT, yT, i, source, yBT, ypBT);
+    addBackwardProblem(i, source, y0, yBT, ypBT);
+  }
   if (const int flag = IDASolveB(ida, tStart, IDA_NORMAL); flag < 0) {
     const Backward* failed = backward_.front().get();  // the one whose callback failed, if any
     for (const auto& b : backward_)
@@ -260,7 +355,7 @@ MatX IdasAdjoint::backward(int objectives, const Source& source) {
     check(flag, "IDASolveB", tStart, failed, idasError_);
   }
   MatX G(p_.size(), objectives);
-  for (int i = 0; i < objectives; ++i) G.col(i) = gradientAtStart(*backward_[size_t(i)]);
+  for (int i = 0; i < objectives; ++i) G.col(i) = gradientAtStart(*backward_[size_t(i)]) + terminalTerms.col(i);
   st_.backwardSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return G;
 }

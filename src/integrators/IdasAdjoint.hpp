@@ -3,10 +3,14 @@
 // (integrators/GglSystem.hpp). The forward pass is the IDAS run without sensitivities, with
 // IDAS' checkpoints (IDAAdjInit, Hermite interpolation between the stored steps); the backward
 // problem of each objective is the adjoint DAE
-//   F_y'^T yB' - F_y^T yB + g_y^T = 0,   F_y'^T yB(T) = 0
+//   F_y'^T yB' - F_y^T yB + g_y^T = 0
 // (F_y' = diag(I, M, 0, 0) is constant), solved from T back to t0 by IDASolveB with the
 // transposed iteration matrix -(F_y - cjB F_y')^T in the same sparse LU, and
-//   dG/dp = -integral of yB^T F_p dt + (F_y'^T yB)(t0) . dy0/dp
+//   dG/dp = -integral of yB^T F_p dt + (F_y'^T yB)(t0) . dy0/dp + c_p.
+// Without a terminal part yB(T) = 0 and c_p = 0. A terminal part phi(q(T), v(T)) sets yB(T)
+// so that phi_y s = (F_y'^T yB)(T) . s for every s(T) the constraints' sensitivities allow
+// (yB_q, yB_v in the null space of Phi_q: M-orthogonal projections, terminalCondition), the
+// rest being c_p = -w . (Phi_q v + Phi_t)_p - z . Phi_p with w, z those projections' multipliers.
 // (IDAQuadB for the integral; dy0/dp the initial sensitivities, PIM case or least-norm rule).
 // This differentiates the exact solution, not the discrete one: it agrees with IDAS' forward
 // sensitivities to the integration tolerance, not to round-off.
@@ -46,14 +50,22 @@ class IdasAdjoint {
 
   /// The forward pass (IDASolveF), `obs` and `afterStep` seeing it as in integrateIdas.
   IntegratorStats forward(Observer& obs, const IdasStepHook& afterStep);
+  /// Adds dphi_i/dq and dphi_i/dv of objective i's terminal part phi_i(q(T), v(T)) at the
+  /// final state x into phiQ, phiV (zero: none).
+  using Terminal = std::function<void(const State& x, int objective, Eigen::Ref<VecX> phiQ, Eigen::Ref<VecX> phiV)>;
+
   /// The backward problems, one per objective: dG_i/dp (parameters x objectives).
-  MatX backward(int objectives, const Source& source);
+  MatX backward(int objectives, const Source& source, const Terminal& terminal = {});
   const AdjointStatistics& statistics() const { return st_; }
 
   struct Backward;
 
  private:
-  void addBackwardProblem(int objective, const Source& source, const VecX& y0);
+  void addBackwardProblem(int objective, const Source& source, const VecX& y0, const VecX& yBT, const VecX& ypBT);
+  VecX saddleSolve(bool massMetric, const VecX& q, const VecX& rhs) const;
+  VecX velocityConstraintGradientTimes(const State& xT, const VecX& w) const;
+  VecX terminalCondition(const State& xT, const VecX& phiQ, const VecX& phiV, VecX& yBT) const;
+  void consistentStart(const State& xT, const VecX& yT, int objective, const Source& source, VecX& yBT, VecX& ypBT);
   VecX gradientAtStart(Backward& b);
 
   const Assembler& as_;
