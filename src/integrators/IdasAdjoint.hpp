@@ -6,12 +6,14 @@
 //   F_y'^T yB' - F_y^T yB + g_y^T = 0
 // (F_y' = diag(I, M, 0, 0) is constant), solved from T back to t0 by IDASolveB with the
 // transposed iteration matrix -(F_y - cjB F_y')^T in the same sparse LU, and
-//   dG/dp = -integral of yB^T F_p dt + (F_y'^T yB)(t0) . dy0/dp + c_p.
-// Without a terminal part yB(T) = 0 and c_p = 0. A terminal part phi(q(T), v(T)) sets yB(T)
-// so that phi_y s = (F_y'^T yB)(T) . s for every s(T) the constraints' sensitivities allow
-// (yB_q, yB_v in the null space of Phi_q: M-orthogonal projections, terminalCondition), the
-// rest being c_p = -w . (Phi_q v + Phi_t)_p - z . Phi_p with w, z those projections' multipliers.
+//   dG/dp = -integral of yB^T F_p dt + (F_y'^T yB)(t0) . dy0/dp + c_p
 // (IDAQuadB for the integral; dy0/dp the initial sensitivities, PIM case or least-norm rule).
+// Without a terminal part yB_q(T) = yB_v(T) = 0 and c_p = 0. A terminal part phi(q(T), v(T))
+// (at t_end only) sets them so that phi_y s = (F_y'^T yB)(T) . s for every s(T) the
+// constraints' sensitivities allow (yB_q, yB_v in the null space of Phi_q: projections,
+// M-weighted for the velocities; terminalCondition), the rest being c_p = -w . (Phi_q v +
+// Phi_t)_p - z . Phi_p with w, z those projections' multipliers. The adjoint multipliers and
+// yB'(T) are then made consistent (consistentStart).
 // This differentiates the exact solution, not the discrete one: it agrees with IDAS' forward
 // sensitivities to the integration tolerance, not to round-off.
 #pragma once
