@@ -495,13 +495,13 @@ TEST(Gradient, StaticTerminalObjectiveAgainstDifferencesOfEquilibria) {
 
 // ------------------------------------------------------------------ (d) errors
 TEST(Gradient, MethodWithoutAdjointIsAnInputErrorNamingThoseWithOne) {
-  const Scene sc = sceneWith(kFreeFall, "fall.yaml", "", 0.0, "idas");
+  const Scene sc = sceneWith(kFreeFall, "fall.yaml", "", 0.0, "maggi_rk4");
   try {
     gradients(sc, "adjoint");
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("idas"), std::string::npos) << what;
+    EXPECT_NE(what.find("maggi_rk4"), std::string::npos) << what;
     EXPECT_NE(what.find(kAdjointIntegrators), std::string::npos) << what;
   }
   Scene projected = sceneWith(kFreeFall, "fall.yaml", "");
@@ -529,8 +529,8 @@ TEST(GradientCli, WritesGradientJsonAndRefusesAMethodWithoutAdjoint) {
   ASSERT_EQ(flexsensCli("gradient " + dir + "/fall.yaml --objective end --out " + dir + "/g", dir, err), 0) << err;
   const std::string json = fileText(dir + "/g/gradient.json");
   EXPECT_EQ(json.rfind("{\"objective\": \"end\", \"value\": -4.905, \"gradient\": {\"gy\": 0.5}, \"statistics\": {", 0), 0u) << json;
-  // IDAS has no discrete adjoint: exit 1, the message names the integrators that have one.
-  EXPECT_EQ(flexsensCli("gradient " + dir + "/fall.yaml --integrator idas --out " + dir + "/h", dir, err), 1);
+  // maggi_rk4 has no discrete adjoint: exit 1, the message names the integrators that have one.
+  EXPECT_EQ(flexsensCli("gradient " + dir + "/fall.yaml --integrator maggi_rk4 --out " + dir + "/h", dir, err), 1);
   EXPECT_NE(err.find(std::string("has no discrete adjoint; the methods that have one: ") + kAdjointIntegrators), std::string::npos) << err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/h"));
   EXPECT_EQ(flexsensCli("gradient " + dir + "/fall.yaml --objective nothing --out " + dir + "/h", dir, err), 1);

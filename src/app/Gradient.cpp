@@ -10,6 +10,7 @@
 #include "app/BodyMass.hpp"
 #include "app/Commands.hpp"
 #include "app/EnergyAudit.hpp"
+#include "app/IdasGradient.hpp"
 #include "app/Objectives.hpp"
 #include "app/Run.hpp"
 #include "core/Interrupt.hpp"
@@ -199,15 +200,38 @@ ObjectiveGradient withExplicitPart(const Scene& sc, size_t i, ObjectiveGradient 
   return g;
 }
 
+/// Integrator idas: the objectives in continuous time (app/IdasGradient.hpp), the energy audit on the run.
+GradientResult idasGradientResult(const Scene& sc, const Assembler& as, const VecX& p, const StateWithSens& start,
+                                  const std::vector<size_t>& sel, const GradientRequest& req,
+                                  std::chrono::steady_clock::time_point t0) {
+  struct NoFrames : Observer {
+    void frame(const StateWithSens&) override {}
+  } noFrames;
+  GradientResult res;
+  res.method = req.method;
+  for (const auto& par : sc.model->parameters) res.parameters.push_back(par.name);
+  const EnergyMeter meter(as, p);
+  EnergyAudit audit(meter, noFrames, sc.integrator.energyTolerance, sc.integrator.energyLossTolerance);
+  std::vector<double> values;
+  const MatX G = idasGradients(sc, as, p, start, sel, req, audit, res, values);
+  for (size_t i = 0; i < sel.size(); ++i)
+    res.objectives.push_back(withExplicitPart(sc, sel[i], {sc.objectives[sel[i]].name, values[i], G.col(Eigen::Index(i))}));
+  res.reason = audit.reason();
+  if (!res.reason.empty()) res.status = "suspect";
+  res.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
 void requireGradientMethod(const Scene& sc, const std::string& method) {
   if (method != "adjoint" && method != "forward")
     throw InputError("option --method: expected adjoint or forward, got '" + method + "'");
   const std::string& type = sc.integrator.type;
+  if (type == "idas") return;  // the continuous adjoint and IDAS' forward sensitivities (app/IdasGradient.hpp)
   if (method == "adjoint" && !hasAdjoint(type))
     throw InputError("option --method adjoint: integrator " + type + " has no discrete adjoint; the methods that have one: " +
-                     kAdjointIntegrators + " (--integrator), or use --method forward with one of those");
+                     kAdjointIntegrators + " (--integrator), and idas its continuous adjoint; or use --method forward with one of those");
   if (method == "forward" && !hasAdjoint(type))
-    throw InputError("option --method forward: flexsens gradient integrates with a fixed-step scheme (" +
+    throw InputError("option --method forward: flexsens gradient integrates with idas or a fixed-step scheme (" +
                      std::string(kAdjointIntegrators) + "), not " + type + " (--integrator)");
 }
 
@@ -236,6 +260,8 @@ GradientResult computeGradients(const Scene& sc, const GradientRequest& req) {
   const Model& m = *sc.model;
   Assembler as(m);
   const VecX p = m.nominalParameters();
+  if (sc.integrator.type == "idas")  // its adjoint takes the initial sensitivities at the start
+    return idasGradientResult(sc, as, p, initialState(as, p, sc.pimCase.get()), sel, req, t0);
   // The adjoint of a start by the least-norm rule takes the initial sensitivities after the
   // sweep, a block at a time (addInitialTerms); a PIM case gives them all here.
   const StateWithSens start = req.method == "adjoint" && !sc.pimCase ? StateWithSens{consistentState(as, p), {}}
@@ -273,9 +299,11 @@ std::string gradientJson(const GradientResult& r, bool single) {
         << ", \"max_constraint_violation\": " << jsonNumber(s.maxConstraintViolation);
   if (r.method == "adjoint") {
     const AdjointStatistics& a = r.adjoint;
-    stats << ", \"checkpoint_every\": " << a.checkpointEvery << ", \"checkpoints\": " << a.checkpoints
-          << ", \"recomputed_steps\": " << a.recomputedSteps << ", \"peak_states\": " << a.peakStates
-          << ", \"peak_state_bytes\": " << jsonNumber(a.peakStateBytes) << ", \"backward_steps\": " << a.backwardSteps
+    stats << ", \"checkpoint_every\": " << a.checkpointEvery << ", \"checkpoints\": " << a.checkpoints;
+    if (a.peakStates > 0)  // (the discrete adjoint's own storage; IDAS keeps its own, not counted)
+      stats << ", \"recomputed_steps\": " << a.recomputedSteps << ", \"peak_states\": " << a.peakStates
+            << ", \"peak_state_bytes\": " << jsonNumber(a.peakStateBytes);
+    stats << ", \"backward_steps\": " << a.backwardSteps
           << ", \"backward_factorizations\": " << a.backwardFactorizations
           << ", \"forward_pass_s\": " << jsonNumber(a.forwardSeconds) << ", \"backward_pass_s\": " << jsonNumber(a.backwardSeconds);
   }
@@ -303,6 +331,7 @@ GradientResult gradientCommand(const GradientRequest& req) {
   const std::vector<size_t> sel = selectedObjectives(sc, req.objective);
   if (statics) requireStaticObjectives(sc, sel);
   else requireGradientMethod(sc, req.method);
+  if (!statics && sc.integrator.type == "idas" && req.method == "adjoint") requireIdasAdjointObjectives(sc, sel);
   RunDirectory dir(outDir, "gradient");
   GradientResult res;
   try {

@@ -3,6 +3,8 @@
 // (integrators/Adjoint.hpp: one backward sweep for all parameters) or by the forward
 // sensitivities (one sensitivity solve per parameter and step); both differentiate the same
 // discrete objective (app/Objectives.hpp), so they agree to round-off and solver tolerances.
+// On integrator idas both take the objectives in continuous time and agree to the integration
+// tolerance (app/IdasGradient.hpp, integrators/IdasAdjoint.hpp).
 #pragma once
 
 #include <string>
@@ -46,7 +48,8 @@ struct GradientResult {
 
 /// Computes the gradients of the scene's objectives (or the one named) without writing.
 /// InputError for a scene without objectives, an unknown objective or method, an integrator
-/// without the method (IDAS, maggi_rk4), an objective other than terminal on a static scene.
+/// without the method (maggi_rk4), an objective other than terminal on a static scene. Integrator
+/// idas: the objectives in continuous time and IDAS' continuous adjoint (app/IdasGradient.hpp).
 /// Statics: J at the equilibrium, dJ/dp from the exact static sensitivities (one
 /// factorization of the equilibrium's matrix, a solve per parameter), whatever the method.
 GradientResult computeGradients(const Scene& scene, const GradientRequest& request);

@@ -137,8 +137,8 @@ void addGradient(CLI::App& app, GradientArgs& a) {
   g->add_option("--out", a.request.outDir, "output directory (default: <output.directory>-gradient)");
   g->add_option("--case", a.request.caseName, "a PIM case of the scene (default: the plain model with every parameter, least-norm initial sensitivities)");
   g->add_flag("--static", a.request.statics, "the static equilibrium of flexsens static (its last load step; terminal objectives), by its exact static sensitivities");
-  g->add_option("--checkpoint-every", a.request.checkpointEvery, "adjoint: keep every k-th state and recompute the rest (default: from the memory budget)")->check(CLI::Range(1L, 1000000000L));
-  g->add_option("--integrator", a.integrator, "trapezoidal | bdf1 | generalized_alpha | midpoint (default: the scene's)");
+  g->add_option("--checkpoint-every", a.request.checkpointEvery, "adjoint: keep every k-th state and recompute the rest (idas: a checkpoint every k IDAS steps; default: from the memory budget)")->check(CLI::Range(1L, 1000000000L));
+  g->add_option("--integrator", a.integrator, "trapezoidal | bdf1 | generalized_alpha | midpoint | idas (continuous objectives and adjoint) (default: the scene's)");
   g->add_option("--t-end", a.tEnd, "final time [s]");
   g->add_option("--dt", a.dt, "fixed step [s]");
   g->add_option("--rho-inf", a.rhoInf, "generalized_alpha: spectral radius at infinity, 0..1");

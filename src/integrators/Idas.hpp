@@ -5,6 +5,8 @@
 // sensitivity residual is analytic (resS), staggered corrector.
 #pragma once
 
+#include <functional>
+
 #include "core/Assembler.hpp"
 #include "integrators/GglSystem.hpp"
 #include "integrators/Settings.hpp"
@@ -16,5 +18,14 @@ namespace flexsens {
 /// t_end), one IdasStepper step at a time (integrators/IdasStepper.hpp).
 IntegratorStats integrateIdas(const Assembler& as, const VecX& p, const StateWithSens& start,
                               const IntegratorSettings& set, Observer& obs);
+
+class IdasStepper;
+/// Called after every internal step with the stepper and the step's start time [s] (the step
+/// ends at stepper.time(); stepper.stateAt is valid in between).
+using IdasStepHook = std::function<void(IdasStepper& stepper, double stepStart)>;
+/// The same with a stepper set up by the caller (integrators/IdasStepper.hpp), `afterStep`
+/// seeing each step.
+IntegratorStats integrateIdas(IdasStepper& stepper, const StateWithSens& start, const IntegratorSettings& set,
+                              Observer& obs, const IdasStepHook& afterStep);
 
 }  // namespace flexsens

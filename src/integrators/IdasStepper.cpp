@@ -213,6 +213,8 @@ struct IdasStepper::Impl {
   std::vector<VectorPtr> ySOut, ypSOut;
   std::vector<N_Vector> ySOutRaw, ypSOutRaw;
   IntegratorStats st;
+  bool adjoint = false;  ///< IDASolveF (enableAdjoint)
+  int checkpoints = 0;   ///< IDASolveF's count
 };
 
 IdasStepper::Impl::Impl(const Assembler& as_, const VecX& p_, const StateWithSens& start,
@@ -438,7 +440,11 @@ int IdasStepper::Impl::step(double tout, bool updateTolerances) {
   double hNext = 0.0;
   check(IDAGetCurrentStep(ida, &hNext), "IDAGetCurrentStep", t);
   const double left = tout - t;
-  const double stop = (left < 0.5 * hNext || left >= 2.0 * hNext) ? farStop  // step past / not yet
+  // With the adjoint's checkpoints no frame stops a step: IDASolveB recomputes each interval
+  // between checkpoints from its checkpoint without them, and an interval recomputed with more
+  // steps than IDAS stored for it overruns IDAS' step array (a segfault in IDASolveB: the
+  // ANCF pendulum with a checkpoint every 50 steps).
+  const double stop = (adjoint || left < 0.5 * hNext || left >= 2.0 * hNext) ? farStop  // step past / not yet
                       : (left <= hNext) ? tout                                // land
                                         : t + 0.5 * left;  // two steps of left/2 >= hNext/2
   if (stop != stopSet) {
@@ -447,7 +453,8 @@ int IdasStepper::Impl::step(double tout, bool updateTolerances) {
   }
   if (updateTolerances) updateSensitivityTolerances(t);
   double tret = t;
-  const int flag = IDASolve(ida, set.tEnd, &tret, y.get(), yp.get(), IDA_ONE_STEP);
+  const int flag = adjoint ? IDASolveF(ida, set.tEnd, &tret, y.get(), yp.get(), IDA_ONE_STEP, &checkpoints)
+                           : IDASolve(ida, set.tEnd, &tret, y.get(), yp.get(), IDA_ONE_STEP);
   if (flag >= 0) t = tret;
   return flag;
 }
@@ -502,6 +509,13 @@ State IdasStepper::current() const {
   return unpack(impl_->t, impl_->y.get(), impl_->yp.get(), impl_->n, impl_->m);
 }
 StateWithSens IdasStepper::stateAt(double tq) { return impl_->stateAt(tq); }
+void IdasStepper::enableAdjoint(long stepsPerCheckpoint) {
+  impl_->check(IDAAdjInit(impl_->ida, stepsPerCheckpoint, IDA_HERMITE), "IDAAdjInit", impl_->t);
+  impl_->adjoint = true;
+}
+long IdasStepper::checkpoints() const { return impl_->checkpoints; }
+void* IdasStepper::memory() const { return impl_->ida; }
+SUNContext IdasStepper::context() const { return impl_->ctx.get(); }
 const IntegratorStats& IdasStepper::statistics() {
   impl_->readCounters();
   return impl_->st;

@@ -16,6 +16,8 @@
 #include "integrators/Settings.hpp"
 #include "integrators/State.hpp"
 
+#include <sundials/sundials_context.h>
+
 namespace flexsens {
 
 /// Steps IDAS may take between two frames before the run stops as too much work.
@@ -47,6 +49,15 @@ class IdasStepper {
   StateWithSens stateAt(double tq);
   /// The counters so far (read from IDAS).
   const IntegratorStats& statistics();
+  /// Before the first step: keep IDAS' adjoint data (IDAAdjInit, Hermite interpolation, a
+  /// checkpoint every `stepsPerCheckpoint` steps) and step with IDASolveF, so that backward
+  /// problems (integrators/IdasAdjoint.hpp) can be solved on `memory()` after the run.
+  void enableAdjoint(long stepsPerCheckpoint);
+  /// Checkpoints IDASolveF has written so far.
+  long checkpoints() const;
+  /// IDAS' memory and the SUNDIALS context (for the backward problems).
+  void* memory() const;
+  SUNContext context() const;
 
  private:
   struct Impl;
