@@ -250,6 +250,27 @@ TEST(GradientIdas, TerminalObjectivesAtTheEndByBothMethodsBeforeItByForwardOnly)
   }
 }
 
+// A body's mass (objective kind mass) has no part in the motion: on idas it is the explicit
+// term alone, m with dm/dm = 1, and in a sum beside an integral the sum of the two gradients.
+TEST(GradientIdas, MassObjectiveBesideAnIntegral) {
+  std::string text = kPendulum;
+  text.replace(text.find("  - {name: L, of: bar"), 0, "  - {name: m, of: bar, property: mass}\n");
+  text += "  - {name: m_bar, mass: {of: bar}}\n  - {name: m_and_y, sum: [{objective: m_bar, weight: 3}, {objective: y_sq, weight: 1}]}\n";
+  const Scene sc = readSceneText(text, "pendulum_mass.yaml");
+  for (const std::string method : {"adjoint", "forward"}) {
+    const GradientResult r = gradients(sc, method);
+    const auto& y = r.objectives[0];
+    const auto& mass = r.objectives[4];
+    const auto& both = r.objectives[5];
+    ASSERT_EQ(mass.name, "m_bar");
+    EXPECT_DOUBLE_EQ(mass.value, 1.0) << method;
+    EXPECT_DOUBLE_EQ(mass.gradient[0], 1.0) << method;
+    EXPECT_EQ(mass.gradient.tail(2).norm(), 0.0) << method;
+    EXPECT_NEAR(both.value, 3.0 + y.value, 1e-14 * both.value) << method;
+    EXPECT_LT((both.gradient - (3.0 * mass.gradient + y.gradient)).norm(), 1e-12 * both.gradient.norm()) << method;
+  }
+}
+
 TEST(GradientIdas, MasslessCoordinatesAreRefusedByTheAdjoint) {
   const char* massless = R"(dimension: 2
 gravity: [0, -2]

@@ -31,9 +31,11 @@ class ContinuousObjectives {
   ContinuousObjectives(const Scene& sc, const std::vector<size_t>& sel, double t0, double tEnd, Eigen::Index np)
       : sc_(sc), t0_(t0), tEnd_(tEnd), np_(np) {
     for (size_t i : sel) {
-      std::vector<std::pair<int, double>> terms;
-      if (sc.objectives[i].kind == "sum") terms = sc.objectives[i].terms;
-      else terms.push_back({int(i), 1.0});
+      std::vector<std::pair<int, double>> all, terms;
+      if (sc.objectives[i].kind == "sum") all = sc.objectives[i].terms;
+      else all.push_back({int(i), 1.0});
+      for (const auto& [k, w] : all)  // a mass has no part in the motion (Gradient.cpp adds it)
+        if (sc.objectives[size_t(k)].kind != "mass") terms.push_back({k, w});
       for (const auto& [k, w] : terms) sums_[k].gradient = VecX::Zero(np);
       terms_.push_back(terms);
     }
