@@ -23,6 +23,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "GradientChecks.hpp"
 #include "app/Gradient.hpp"
 #include "app/Objectives.hpp"
 #include "output/GradientVtu.hpp"
@@ -50,12 +51,7 @@ Scene sceneWith(const std::string& text, const std::string& name, const std::str
   return sc;
 }
 
-GradientResult gradients(const Scene& sc, const std::string& method, long checkpointEvery = 0) {
-  GradientRequest req;
-  req.method = method;
-  req.checkpointEvery = checkpointEvery;
-  return computeGradients(sc, req);
-}
+using test::gradients;
 
 /// Objective values of a whole run with parameter k moved by d, from the initial state the
 /// scene's PIM case (or the least-norm rule) gives the perturbed model (as `--method nd`).
@@ -86,16 +82,7 @@ std::vector<double> perturbedValues(const Scene& sc, int k, double d) {
   return J;
 }
 
-/// Largest |a - b| / max(|b|, floor) over objectives and parameters.
-double worstRelative(const GradientResult& a, const GradientResult& b, double floor) {
-  double worst = 0.0;
-  for (size_t i = 0; i < b.objectives.size(); ++i)
-    for (Eigen::Index k = 0; k < b.objectives[i].gradient.size(); ++k) {
-      const double ref = b.objectives[i].gradient[k];
-      worst = std::max(worst, std::abs(a.objectives[i].gradient[k] - ref) / std::max(std::abs(ref), floor));
-    }
-  return worst;
-}
+using test::worstRelative;
 
 // ------------------------------------------------------------------ (a) free fall
 const char* kFreeFall = R"(dimension: 2
@@ -239,6 +226,27 @@ TEST(Gradient, MasslessCoordinatesAdjointEqualsForwardAndDifferences) {
 }
 
 // ------------------------------------------------------------------ (c1) per-element parameters
+/// Adjoint against forward for every parameter, and against central differences of whole runs
+/// (relative step `rel` of the nominal value) for the parameters with the largest and the
+/// smallest adjoint gradient of objective 0.
+void checkPerElementGradients(const Scene& sc, double rel) {
+  const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint", 7);
+  EXPECT_LT(worstRelative(adj, fw, 1e-6 * fw.objectives[0].gradient.cwiseAbs().maxCoeff()), 1e-8);
+  Eigen::Index largest, smallest;
+  adj.objectives[0].gradient.cwiseAbs().maxCoeff(&largest);
+  adj.objectives[0].gradient.cwiseAbs().minCoeff(&smallest);
+  for (const Eigen::Index k : {largest, smallest}) {
+    const double d = rel * sc.model->parameters[size_t(k)].nominal;
+    const std::vector<double> plus = perturbedValues(sc, int(k), d), minus = perturbedValues(sc, int(k), -d);
+    for (size_t i = 0; i < adj.objectives.size(); ++i) {
+      const double nd = (plus[i] - minus[i]) / (2 * d), scale = adj.objectives[i].gradient.cwiseAbs().maxCoeff();
+      std::printf("%s, objective %zu: adjoint %.9e, central differences %.9e (largest %.3e)\n",
+                  sc.model->parameters[size_t(k)].name.c_str(), i, adj.objectives[i].gradient[k], nd, scale);
+      EXPECT_NEAR(adj.objectives[i].gradient[k], nd, 1e-5 * scale) << sc.model->parameters[size_t(k)].name << " " << i;
+    }
+  }
+}
+
 TEST(Gradient, PerElementThicknessOfASolidPlate) {
   // A planar cantilever plate of linear triangles under gravity, one thickness parameter per
   // cell: the adjoint equals the forward gradient for every cell, and central differences of
@@ -265,8 +273,7 @@ objectives:
   ASSERT_EQ(int(m.parameters.size()), cells);
   EXPECT_EQ(m.parameters[3].name, "t[3]");
   EXPECT_EQ(m.parameters[3].boundTo, "plate.thickness[3]");
-  const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint", 9);
-  EXPECT_LT(worstRelative(adj, fw, 1e-6 * fw.objectives[0].gradient.cwiseAbs().maxCoeff()), 1e-8);
+  const GradientResult adj = gradients(sc, "adjoint", 9);
   // gradient.vtu: each solid cell carries the gradient of its own parameter.
   const std::string vtu = testing::TempDir() + "flexsens_gradient_field.vtu";
   writeGradientVtu(vtu, vtu, m, {{"tip_end", adj.objectives[0].gradient}});
@@ -287,38 +294,7 @@ objectives:
       }
   EXPECT_EQ(matched, cells);
   std::filesystem::remove(vtu);
-  Eigen::Index root, tip;
-  adj.objectives[0].gradient.cwiseAbs().maxCoeff(&root);
-  adj.objectives[0].gradient.cwiseAbs().minCoeff(&tip);
-  for (const Eigen::Index k : {root, tip}) {
-    const double d = 1e-5 * 0.01;
-    const std::vector<double> plus = perturbedValues(sc, int(k), d), minus = perturbedValues(sc, int(k), -d);
-    for (size_t i = 0; i < 2; ++i) {
-      const double nd = (plus[i] - minus[i]) / (2 * d), scale = adj.objectives[i].gradient.cwiseAbs().maxCoeff();
-      EXPECT_NEAR(adj.objectives[i].gradient[k], nd, 1e-5 * scale) << m.parameters[size_t(k)].name << " " << i;
-    }
-  }
-}
-
-/// Adjoint against forward for every parameter, and against central differences of whole runs
-/// (relative step `rel` of the nominal value) for the parameters with the largest and the
-/// smallest adjoint gradient of objective 0.
-void checkPerElementGradients(const Scene& sc, double rel) {
-  const GradientResult fw = gradients(sc, "forward"), adj = gradients(sc, "adjoint", 7);
-  EXPECT_LT(worstRelative(adj, fw, 1e-6 * fw.objectives[0].gradient.cwiseAbs().maxCoeff()), 1e-8);
-  Eigen::Index largest, smallest;
-  adj.objectives[0].gradient.cwiseAbs().maxCoeff(&largest);
-  adj.objectives[0].gradient.cwiseAbs().minCoeff(&smallest);
-  for (const Eigen::Index k : {largest, smallest}) {
-    const double d = rel * sc.model->parameters[size_t(k)].nominal;
-    const std::vector<double> plus = perturbedValues(sc, int(k), d), minus = perturbedValues(sc, int(k), -d);
-    for (size_t i = 0; i < adj.objectives.size(); ++i) {
-      const double nd = (plus[i] - minus[i]) / (2 * d), scale = adj.objectives[i].gradient.cwiseAbs().maxCoeff();
-      std::printf("%s, objective %zu: adjoint %.9e, central differences %.9e (largest %.3e)\n",
-                  sc.model->parameters[size_t(k)].name.c_str(), i, adj.objectives[i].gradient[k], nd, scale);
-      EXPECT_NEAR(adj.objectives[i].gradient[k], nd, 1e-5 * scale) << sc.model->parameters[size_t(k)].name << " " << i;
-    }
-  }
+  checkPerElementGradients(sc, 1e-5);
 }
 
 TEST(Gradient, PerElementThicknessOfAKirchhoffShell) {

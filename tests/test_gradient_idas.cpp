@@ -16,6 +16,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "GradientChecks.hpp"
 #include "app/Gradient.hpp"
 #include "app/ParameterValues.hpp"
 #include "integrators/Idas.hpp"
@@ -52,22 +53,9 @@ objectives:
 )";
 
 GradientResult gradients(const Scene& sc, const std::string& method, const std::string& objective = "") {
-  GradientRequest req;
-  req.method = method;
-  req.objective = objective;
-  return computeGradients(sc, req);
+  return test::gradients(sc, method, 0, objective);
 }
-
-/// Largest |a - b| / max(|b|, floor) over objectives and parameters.
-double worstRelative(const GradientResult& a, const GradientResult& b, double floor) {
-  double worst = 0.0;
-  for (size_t i = 0; i < b.objectives.size(); ++i)
-    for (Eigen::Index k = 0; k < b.objectives[i].gradient.size(); ++k) {
-      const double ref = b.objectives[i].gradient[k];
-      worst = std::max(worst, std::abs(a.objectives[i].gradient[k] - ref) / std::max(std::abs(ref), floor));
-    }
-  return worst;
-}
+using test::worstRelative;
 
 /// The outputs at every frame of a plain IDAS run.
 class Frames : public Observer {
@@ -87,17 +75,22 @@ class Frames : public Observer {
 };
 
 /// Simpson's rule of f over the frames i0 ... i1 (an even count of equal intervals h).
+struct FrameTable {
+  std::vector<double> times;
+  std::vector<std::vector<double>> values;  ///< per frame, the outputs
+};
+
 template <class F>
-double simpson(const Frames& fr, size_t i0, size_t i1, F f) {
+double simpson(const FrameTable& fr, size_t i0, size_t i1, F f) {
   const double h = (fr.times[i1] - fr.times[i0]) / double(i1 - i0);
   double s = f(i0) + f(i1);
   for (size_t i = i0 + 1; i < i1; ++i) s += (i - i0) % 2 ? 4 * f(i) : 2 * f(i);
   return s * h / 3;
 }
 
-/// The pendulum's four objectives from a whole IDAS run at parameter k moved by d (rtol 1e-11),
-/// integrated here from the 1 ms frames: y_sq, x_track, y_low (the KS mean), mix.
-std::vector<double> objectivesOfRun(const std::string& caseName, int k, double d) {
+/// The pendulum's outputs at the 1 ms frames of a whole IDAS run at parameter k moved by d
+/// (rtol 1e-11).
+FrameTable accurateRun(const std::string& caseName, int k, double d) {
   Scene sc = readSceneText(kPendulum, "pendulum.yaml", caseName);
   const VecX p0 = sc.model->nominalParameters();
   applyParameterValues(sc, {{sc.model->parameters[size_t(k)].name, p0[k] + d}});
@@ -109,6 +102,13 @@ std::vector<double> objectivesOfRun(const std::string& caseName, int k, double d
   start.x = initialState(as, p, sc.pimCase.get()).x;
   Frames fr(sc);
   integrateIdas(as, p, start, sc.integrator, fr);
+  return {fr.times, fr.values};
+}
+
+/// The pendulum's four objectives from a whole IDAS run at parameter k moved by d (rtol 1e-11),
+/// integrated here from the 1 ms frames: y_sq, x_track, y_low (the KS mean), mix.
+std::vector<double> objectivesOfRun(const std::string& caseName, int k, double d) {
+  const FrameTable fr = accurateRun(caseName, k, d);
   EXPECT_EQ(fr.times.size(), 1001u);
   const auto& v = fr.values;
   const double ySq = simpson(fr, 0, 1000, [&](size_t i) { return v[i][1] * v[i][1]; });
@@ -124,18 +124,7 @@ std::vector<double> objectivesOfRun(const std::string& caseName, int k, double d
 
 /// Output `output` at frame `frame` of a whole IDAS run at parameter k moved by d (rtol 1e-11).
 double outputAtFrame(const std::string& caseName, int k, double d, size_t frame, size_t output) {
-  Scene sc = readSceneText(kPendulum, "pendulum.yaml", caseName);
-  const VecX p0 = sc.model->nominalParameters();
-  applyParameterValues(sc, {{sc.model->parameters[size_t(k)].name, p0[k] + d}});
-  sc.integrator.rtol = 1e-11;
-  sc.integrator.atol = 1e-13;
-  Assembler as(*sc.model);
-  const VecX p = sc.model->nominalParameters();
-  StateWithSens start;
-  start.x = initialState(as, p, sc.pimCase.get()).x;
-  Frames fr(sc);
-  integrateIdas(as, p, start, sc.integrator, fr);
-  return fr.values.at(frame)[output];
+  return accurateRun(caseName, k, d).values.at(frame)[output];
 }
 
 void checkPendulum(const std::string& caseName) {

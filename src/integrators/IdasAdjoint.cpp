@@ -15,18 +15,12 @@
 #include "integrators/GglSystem.hpp"
 #include "integrators/IdasLinearSolver.hpp"
 #include "integrators/IdasStepper.hpp"
+#include "integrators/IdasVectors.hpp"
 #include "integrators/InitialState.hpp"
 
 namespace flexsens {
 
 namespace {
-
-Eigen::Map<VecX> view(N_Vector v) { return {N_VGetArrayPointer(v), N_VGetLength(v)}; }
-
-struct VectorDeleter { void operator()(_generic_N_Vector* v) const { N_VDestroy(v); } };
-struct MatrixDeleter { void operator()(_generic_SUNMatrix* A) const { SUNMatDestroy(A); } };
-struct SolverDeleter { void operator()(_generic_SUNLinearSolver* S) const { SUNLinSolFree(S); } };
-using VectorPtr = std::unique_ptr<_generic_N_Vector, VectorDeleter>;
 
 /// Absolute tolerance of the adjoint multipliers: out of the corrector's test (IdasStepper's
 /// kUntestedTolerance, the same reason: their corrections are O(1/h) times the others').
@@ -49,16 +43,7 @@ struct IdasAdjoint::Backward {
   std::unique_ptr<_generic_SUNMatrix, MatrixDeleter> J;
   std::unique_ptr<_generic_SUNLinearSolver, SolverDeleter> LS;
 
-  State state(double t, N_Vector yy, N_Vector yp) const {
-    const auto Y = view(yy), D = view(yp);
-    State x;
-    x.t = t;
-    x.q = Y.segment(0, n);
-    x.v = Y.segment(n, n);
-    x.lambda = Y.segment(2 * n, m);
-    x.a = D.segment(n, n);
-    return x;
-  }
+  State state(double t, N_Vector yy, N_Vector yp) const { return gglState(t, yy, yp, n, m); }
 };
 
 namespace {

@@ -13,6 +13,7 @@
 
 #include "integrators/GglSystem.hpp"
 #include "integrators/IdasLinearSolver.hpp"
+#include "integrators/IdasVectors.hpp"
 #include "integrators/InitialState.hpp"
 
 namespace flexsens {
@@ -21,11 +22,7 @@ namespace {
 
 // ------------------------------------------------------------ RAII for SUNDIALS objects
 struct ContextDeleter { void operator()(SUNContext c) const { SUNContext_Free(&c); } };
-struct VectorDeleter { void operator()(_generic_N_Vector* v) const { N_VDestroy(v); } };
-struct MatrixDeleter { void operator()(_generic_SUNMatrix* A) const { SUNMatDestroy(A); } };
-struct SolverDeleter { void operator()(_generic_SUNLinearSolver* S) const { SUNLinSolFree(S); } };
 struct IdaDeleter { void operator()(void* mem) const { IDAFree(&mem); } };
-using VectorPtr = std::unique_ptr<_generic_N_Vector, VectorDeleter>;
 
 struct Problem {
   const Assembler* as;
@@ -55,7 +52,6 @@ struct Problem {
   std::string sensitivityHint;  ///< appended to step failures: what to try with sensitivities
 };
 
-Eigen::Map<VecX> view(N_Vector v) { return {N_VGetArrayPointer(v), N_VGetLength(v)}; }
 
 void check(int flag, const char* fn, const Problem& pb, double t) {
   if (flag >= 0) return;
@@ -145,16 +141,6 @@ void pack(const State& s, int n, int m, N_Vector y, N_Vector yp) {
   D.segment(n, n) = s.a;
 }
 
-State unpack(double t, N_Vector y, N_Vector yp, int n, int m) {
-  const auto Y = view(y), D = view(yp);
-  State s;
-  s.t = t;
-  s.q = Y.segment(0, n);
-  s.v = Y.segment(n, n);
-  s.lambda = Y.segment(2 * n, m);
-  s.a = D.segment(n, n);
-  return s;
-}
 
 }  // namespace
 
@@ -463,12 +449,12 @@ StateWithSens IdasStepper::Impl::stateAt(double tq) {
   check(IDAGetDky(ida, tq, 0, yOut.get()), "IDAGetDky", tq);
   check(IDAGetDky(ida, tq, 1, ypOut.get()), "IDAGetDky", tq);
   StateWithSens out;
-  out.x = unpack(tq, yOut.get(), ypOut.get(), n, m);
+  out.x = gglState(tq, yOut.get(), ypOut.get(), n, m);
   if (!out.x.q.allFinite()) check(IDA_CONV_FAIL, "IDASolve (non-finite state)", tq);
   if (Ns > 0) {
     check(IDAGetSensDky(ida, tq, 0, ySOutRaw.data()), "IDAGetSensDky", tq);
     check(IDAGetSensDky(ida, tq, 1, ypSOutRaw.data()), "IDAGetSensDky", tq);
-    for (int k = 0; k < Ns; ++k) out.dp.push_back(unpack(tq, ySOutRaw[k], ypSOutRaw[k], n, m));
+    for (int k = 0; k < Ns; ++k) out.dp.push_back(gglState(tq, ySOutRaw[k], ypSOutRaw[k], n, m));
   }
   as.setTime(tq);
   if (m) st.maxConstraintViolation = std::max(st.maxConstraintViolation, as.phi(out.x.q, p).lpNorm<Eigen::Infinity>());
@@ -506,7 +492,7 @@ double IdasStepper::time() const { return impl_->t; }
 int IdasStepper::step(double tout, bool updateTolerances) { return impl_->step(tout, updateTolerances); }
 void IdasStepper::throwIfFailed(int flag, const char* function) const { impl_->check(flag, function, impl_->t); }
 State IdasStepper::current() const {
-  return unpack(impl_->t, impl_->y.get(), impl_->yp.get(), impl_->n, impl_->m);
+  return gglState(impl_->t, impl_->y.get(), impl_->yp.get(), impl_->n, impl_->m);
 }
 StateWithSens IdasStepper::stateAt(double tq) { return impl_->stateAt(tq); }
 void IdasStepper::enableAdjoint(long stepsPerCheckpoint) {
