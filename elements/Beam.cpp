@@ -167,15 +167,37 @@ double BeamHinge::angle(const VecX& x) {
   return std::atan2(e1.x() * e2.y() - e1.y() * e2.x(), e1.dot(e2));
 }
 
+HingeSections::HingeSections(std::shared_ptr<BeamSection> first, std::shared_ptr<BeamSection> second, double L1,
+                             double L2)
+    : a(first), b(second && second != first ? std::move(second) : first) {
+  if (!a) throw std::invalid_argument("no section");
+  if (b != a) wa = L1 / (L1 + L2), wb = L2 / (L1 + L2);
+}
+
+std::vector<std::pair<std::string, Quantity*>> HingeSections::properties() const {
+  auto out = a->properties();
+  if (b != a)
+    for (const auto& q : b->properties()) out.push_back(q);
+  return out;
+}
+
+namespace {
+/// Rest lengths |x_b - x_a|, |x_c - x_b| [m] of three nodes' rest positions (3 dim entries each).
+std::pair<double, double> restLengths(const VecX& restX, int dim) {
+  return {(restX.segment(dim, dim) - restX.segment(0, dim)).norm(),
+          (restX.segment(2 * dim, dim) - restX.segment(dim, dim)).norm()};
+}
+}  // namespace
+
 BeamHinge::BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
-                     const VecX& restX, double voronoiLength)
-    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)) {
+                     const VecX& restX, double voronoiLength, std::shared_ptr<BeamSection> sectionB)
+    : KernelElement(std::move(name), std::move(nodes)),
+      sec_(section ? section : throw std::invalid_argument("beam_hinge: no section"), sectionB,
+           restX.size() == 6 ? restLengths(restX, 2).first : 1.0, restX.size() == 6 ? restLengths(restX, 2).second : 1.0) {
   const std::string who = "beam_hinge " + this->name();
   if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
-  if (!sec_) throw std::invalid_argument(who + ": no section");
   if (restX.size() != 6) throw std::invalid_argument(who + ": planar only (dim must be 2)");
-  const double L1 = (restX.segment<2>(2) - restX.segment<2>(0)).norm();
-  const double L2 = (restX.segment<2>(4) - restX.segment<2>(2)).norm();
+  const auto [L1, L2] = restLengths(restX, 2);
   if (!(L1 > 0.0 && L2 > 0.0)) throw std::invalid_argument(who + ": zero rest length");
   phi0_ = angle(restX);
   D_ = voronoiLength > 0.0 ? voronoiLength : 0.5 * (L1 + L2);
@@ -227,7 +249,7 @@ VecT<T> BeamHinge::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>&,
   if (!(ad::valueOf(r1) > 0.0 && ad::valueOf(r2) > 0.0))
     throw NumericalError("beam_hinge " + name() + ": zero edge length");
   const T g1x = e1y / r1, g1y = -e1x / r1, g2x = -e2y / r2, g2y = e2x / r2;  // [1/m]
-  const T EI = props[0] * sec_->inertiaOf(props[1]);
+  const T EI = sec_.EIof(props);
   const T c = -(EI / D_) * dphi;  // -dU/dphi [N m]
   VecT<T> Q(6);
   Q << c * -g1x, c * -g1y, c * T(g1x - g2x), c * T(g1y - g2y), c * g2x, c * g2y;  // [N]
@@ -238,24 +260,24 @@ void BeamHinge::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const
   VecX g;
   const double dphi = deviation(s, &g, &dQdq);  // Hess phi, in dQdq's storage (no temporaries)
   // dQ/dq = -Hess U = -k_b (g g^T + (phi - phi0) Hess phi), k_b = EI / D [N m]
-  const double kb = sec_->EI(*s.p) / D_;
+  const double kb = sec_.EI(*s.p) / D_;
   dQdq *= -kb * dphi;
   dQdq.noalias() -= kb * (g * g.transpose());
   dQdv.setZero(6, 6);
 }
 
 bool BeamHinge::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  if (!sec_->bendingDependsOn(k)) return false;
+  if (!sec_.bendingDependsOn(k)) return false;
   VecX g;
   const double dphi = deviation(s, &g, nullptr);
-  dQ = -(sec_->dEI(*s.p, k) / D_) * dphi * g;
+  dQ = -(sec_.dEI(*s.p, k) / D_) * dphi * g;
   dM.setZero(6, 6);
   return true;
 }
 
 double BeamHinge::potential(const LocalState& s) const {
   const double dphi = deviation(s, nullptr, nullptr);
-  return 0.5 * (sec_->EI(*s.p) / D_) * dphi * dphi;  // [J]
+  return 0.5 * (sec_.EI(*s.p) / D_) * dphi * dphi;  // [J]
 }
 
 template class KernelElement<BeamSegment>;

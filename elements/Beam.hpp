@@ -62,6 +62,28 @@ struct BeamSection {
   std::vector<std::pair<std::string, Quantity*>> properties();
 };
 
+/// The sections a bending hinge reads: the beam's one section, or (per-element parameters) the
+/// two segments' own, a and b; its EI is their mean weighted by the half-segments it spans,
+/// wa = L1 / (L1 + L2), wb = L2 / (L1 + L2) (each half bends with its own section).
+struct HingeSections {
+  std::shared_ptr<BeamSection> a, b;
+  double wa = 1.0, wb = 0.0;
+  /// One section (b = a, weights (1, 0)) or two with the rest lengths L1, L2 [m] they span.
+  HingeSections(std::shared_ptr<BeamSection> first, std::shared_ptr<BeamSection> second, double L1, double L2);
+  double EI(const VecX& p) const { return wa * a->EI(p) + wb * b->EI(p); }
+  double dEI(const VecX& p, int k) const { return wa * a->dEI(p, k) + wb * b->dEI(p, k); }
+  bool bendingDependsOn(int k) const { return a->bendingDependsOn(k) || b->bendingDependsOn(k); }
+  /// The kernels' props (E, I source of a, then of b) and their EI, for any scalar type.
+  std::vector<const Quantity*> kernelProperties() const {
+    return {&a->E, &a->inertiaSource(), &b->E, &b->inertiaSource()};
+  }
+  template <class T> T EIof(const VecT<T>& props) const {
+    return wa * props[0] * a->inertiaOf(props[1]) + wb * props[2] * b->inertiaOf(props[3]);
+  }
+  /// a's named quantities, then b's when b is another section.
+  std::vector<std::pair<std::string, Quantity*>> properties() const;
+};
+
 /// Two-node axial segment (dim 2 or 3): U = 1/2 EA L eps^2, eps = (l - L)/L; consistent mass
 /// (rho A L / 6) [[2I, I], [I, 2I]]; gravity rho A L g / 2 on each node.
 class BeamSegment : public KernelElement<BeamSegment> {
@@ -100,14 +122,15 @@ class BeamHinge : public KernelElement<BeamHinge> {
  public:
   /// restX: rest positions of a, b, c (6 entries) giving phi0, L1, L2. voronoiLength > 0
   /// overrides D (e.g. D = L2/2 at a clamp whose node a is a ghost outside the beam).
+  /// sectionB: the second segment's own section (per-element parameters); none: `section` for both.
   BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
-            const VecX& restX, double voronoiLength = 0.0);
+            const VecX& restX, double voronoiLength = 0.0, std::shared_ptr<BeamSection> sectionB = nullptr);
   std::string kind() const override { return "beam_hinge"; }
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
-  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_.properties(); }
   double restAngle() const { return phi0_; }
   double voronoiLength() const { return D_; }
   /// Turning angle phi [rad] of positions x (6 entries), in (-pi, pi].
@@ -117,11 +140,11 @@ class BeamHinge : public KernelElement<BeamHinge> {
   friend class KernelElement<BeamHinge>;
   /// (phi - phi0) wrapped to (-pi, pi], and optionally dphi/dx (6) and d2phi/dx2 (6x6).
   double deviation(const LocalState& s, VecX* g, MatX* H) const;
-  /// Properties the kernel reads, in the order of its props vector: (E, I source).
-  std::vector<const Quantity*> kernelProperties() const { return {&sec_->E, &sec_->inertiaSource()}; }
+  /// Properties the kernel reads, in the order of its props vector (HingeSections).
+  std::vector<const Quantity*> kernelProperties() const { return sec_.kernelProperties(); }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
-  std::shared_ptr<BeamSection> sec_;
+  HingeSections sec_;
   double phi0_, D_;
 };
 

@@ -74,11 +74,13 @@ Eigen::Vector3d BeamHinge3D::curvatureBinormal(const VecX& x) {
 }
 
 BeamHinge3D::BeamHinge3D(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
-                         const VecX& restX, double voronoiLength)
-    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section)) {
+                         const VecX& restX, double voronoiLength, std::shared_ptr<BeamSection> sectionB)
+    : KernelElement(std::move(name), std::move(nodes)),
+      sec_(section ? section : throw std::invalid_argument("beam_hinge3d: no section"), sectionB,
+           restX.size() == 9 ? (restX.segment<3>(3) - restX.segment<3>(0)).norm() : 1.0,
+           restX.size() == 9 ? (restX.segment<3>(6) - restX.segment<3>(3)).norm() : 1.0) {
   const std::string who = "beam_hinge3d " + this->name();
   if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
-  if (!sec_) throw std::invalid_argument(who + ": no section");
   if (restX.size() != 9) throw std::invalid_argument(who + ": spatial only (dim must be 3, 9 rest coordinates)");
   const double L1 = (restX.segment<3>(3) - restX.segment<3>(0)).norm();
   const double L2 = (restX.segment<3>(6) - restX.segment<3>(3)).norm();
@@ -181,7 +183,7 @@ VecT<T> BeamHinge3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
   V3<T> gf1, gf2;
   std::string why;
   if (!curvatureSquaredT<T>(e1, e2, f, gf1, gf2, why)) throw NumericalError("beam_hinge3d " + name() + ": " + why);
-  const T k = props[0] * sec_->inertiaOf(props[1]) / D_;  // EI / D [N m]
+  const T k = sec_.EIof(props) / D_;  // EI / D [N m]
   T dUdfT;
   if (psi0_ == 0.0) {
     dUdfT = 0.5 * k;
@@ -202,13 +204,13 @@ VecT<T> BeamHinge3D::forceT(const LocalState& s, const VecT<T>& x, const VecT<T>
 void BeamHinge3D::force(const LocalState& s, VecX& Q) const {
   // forceT<double> into Q's storage (see BeamSegment::force): Q = -dU/df grad f  [N]
   const double f = curvatureSquared(s, &Q, nullptr);  // grad f, in Q's storage
-  Q *= -dUdf(sec_->EI(*s.p), f);
+  Q *= -dUdf(sec_.EI(*s.p), f);
 }
 
 void BeamHinge3D::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const {
   VecX g;
   const double f = curvatureSquared(s, &g, &dQdq);  // Hess f, in dQdq's storage
-  const double EI = sec_->EI(*s.p), k = EI / D_;
+  const double EI = sec_.EI(*s.p), k = EI / D_;
   // dQ/dq = -Hess U = -(dU/df Hess f + d2U/df2 grad f grad f^T), d2U/df2 = k psi0 / (4 kappa^3)
   // [N/m]
   dQdq *= -dUdf(EI, f);
@@ -220,11 +222,11 @@ void BeamHinge3D::forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) con
 }
 
 bool BeamHinge3D::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const {
-  if (!sec_->bendingDependsOn(k)) return false;
+  if (!sec_.bendingDependsOn(k)) return false;
   VecX g;
   const double f = curvatureSquared(s, &g, nullptr);
   // Q = -(EI/D) phi(f) grad f with phi = dU/df / k independent of EI: dQ = -(dEI/D) phi grad f
-  dQ = -dUdf(sec_->dEI(*s.p, k), f) * g;
+  dQ = -dUdf(sec_.dEI(*s.p, k), f) * g;
   dM.setZero(9, 9);
   return true;
 }
@@ -232,7 +234,7 @@ bool BeamHinge3D::parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX
 double BeamHinge3D::potential(const LocalState& s) const {
   const double f = curvatureSquared(s, nullptr, nullptr);
   const double dev = std::sqrt(f) - psi0_;  // |kb| - psi0 [-]
-  return 0.5 * (sec_->EI(*s.p) / D_) * dev * dev;  // [J]
+  return 0.5 * (sec_.EI(*s.p) / D_) * dev * dev;  // [J]
 }
 
 template class KernelElement<BeamHinge3D>;

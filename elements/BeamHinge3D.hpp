@@ -7,7 +7,8 @@
 // the planar BeamHinge's measure. Energy, with psi0 = |kb| of the rest shape:
 //   U = 1/2 (EI / D) (|kb| - psi0)^2                       [J]
 // D = (L1 + L2)/2 [m] the Voronoi length of the rest shape (or an override, e.g. h/2 at a clamp
-// whose node a is a ghost outside the beam), EI [N m^2] from the shared BeamSection.
+// whose node a is a ghost outside the beam), EI [N m^2] from the shared BeamSection (with
+// per-element parameters the two segments' sections, weighted by L1 and L2: HingeSections).
 //
 // Smoothness.
 // - psi0 == 0 (straight rest): U = 1/2 (EI/D) |kb|^2 = 2 (EI/D) |e1 x e2|^2 / (|e1||e2| + e1.e2)^2,
@@ -45,15 +46,16 @@ class BeamHinge3D : public KernelElement<BeamHinge3D> {
 
   /// restX: rest positions of a, b, c (9 entries [m]) giving psi0, L1, L2. voronoiLength > 0
   /// overrides D [m]. Throws std::invalid_argument for zero rest edges or a folded rest shape.
+  /// sectionB: the second segment's own section (per-element parameters); none: `section` for both.
   BeamHinge3D(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
-              const VecX& restX, double voronoiLength = 0.0);
+              const VecX& restX, double voronoiLength = 0.0, std::shared_ptr<BeamSection> sectionB = nullptr);
   std::string kind() const override { return "beam_hinge3d"; }
   void force(const LocalState& s, VecX& Q) const override;
   void forceJacobian(const LocalState& s, MatX& dQdq, MatX& dQdv) const override;
   bool velocityDependent() const override { return false; }
   bool parameterDerivative(const LocalState& s, int k, VecX& dQ, MatX& dM) const override;
   double potential(const LocalState& s) const override;
-  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_->properties(); }
+  std::vector<std::pair<std::string, Quantity*>> properties() override { return sec_.properties(); }
 
   /// psi0 = |kb| of the rest shape [-] (0 for a straight rest shape).
   double restCurvature() const { return psi0_; }
@@ -69,11 +71,11 @@ class BeamHinge3D : public KernelElement<BeamHinge3D> {
   double curvatureSquared(const LocalState& s, VecX* g, MatX* H) const;
   /// dU/df (the gradient of U is dU/df grad f) after the kink / fold checks [N m].
   double dUdf(double EI, double f) const;
-  /// Properties the kernel reads, in the order of its props vector: (E, I source).
-  std::vector<const Quantity*> kernelProperties() const { return {&sec_->E, &sec_->inertiaSource()}; }
+  /// Properties the kernel reads, in the order of its props vector (HingeSections).
+  std::vector<const Quantity*> kernelProperties() const { return sec_.kernelProperties(); }
   template <class T>
   VecT<T> forceT(const LocalState& s, const VecT<T>& x, const VecT<T>& v, const VecT<T>& props) const;
-  std::shared_ptr<BeamSection> sec_;
+  HingeSections sec_;
   double psi0_, D_;
 };
 

@@ -1,5 +1,6 @@
 // Scene reader of beam (elements/Beam.hpp, elements/BeamHinge3D.hpp): a node chain (listed or
-// meshed from a Gmsh curve) becomes axial segments plus bending hinges sharing one section.
+// meshed from a Gmsh curve) becomes axial segments plus bending hinges sharing one section (with
+// per-element parameters each segment has its own, and a hinge the two it joins: HingeSections).
 #include "elements/Beam.hpp"
 #include "elements/BeamHinge3D.hpp"
 #include "elements/BeamSectionReader.hpp"
@@ -60,7 +61,7 @@ namespace {
 /// converges as O(1/N^2) (tests/test_static_scene.cpp), where the end segment's distance to a
 /// ground node one segment behind (no half cell) gives O(1/N).
 void readClamp(SceneContext& ctx, const YAML::Node& el, const std::string& path, const std::string& name,
-               const std::vector<int>& ids, const std::shared_ptr<BeamSection>& sec) {
+               const std::vector<int>& ids, const std::vector<std::shared_ptr<BeamSection>>& segmentSections) {
   const YamlReader& r = ctx.r;
   Model& m = ctx.m;
   const YAML::Node cn = el["clamp"];
@@ -86,6 +87,7 @@ void readClamp(SceneContext& ctx, const YAML::Node& el, const std::string& path,
     VecX rest(3 * m.dim);
     rest << ghost.position, x0, m.nodes[next].position;
     const double half = 0.5 * seg.norm();
+    const auto& sec = atStart ? segmentSections.front() : segmentSections.back();  // the end segment's
     if (m.dim == 2) m.elements.push_back(std::make_unique<BeamHinge>(ghost.name, nd, sec, rest, half));
     else m.elements.push_back(std::make_unique<BeamHinge3D>(ghost.name, nd, sec, rest, half));
   }
@@ -103,15 +105,17 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
                        "initial (the rest shape is the initial positions) or straight (rest "
                        "segment lengths from the initial positions, zero rest curvature)");
   auto sec = readBeamSection(r, el, path);
-  ctx.bindAll(name, sec->properties());
+  ctx.bindBody(name, sec);
   ctx.bodies[name] = {ids, nullptr, false, sec->massless};
+  std::vector<std::shared_ptr<BeamSection>> segmentSections;  // each its own with per-element parameters
   for (size_t j = 0; j + 1 < ids.size(); ++j) {
     const double L = ctx.distance(ids[j], ids[j + 1]);
     if (!(L > 0)) r.fail(el["nodes"][j + 1], at(path + ".nodes", j + 1), "coincides with the previous node: zero segment length");
+    segmentSections.push_back(ctx.elementProperties(name, sec, int(m.elements.size())));
     m.elements.push_back(std::make_unique<BeamSegment>(name + ".segment" + std::to_string(j),
-                                                       std::vector<int>{ids[j], ids[j + 1]}, sec, L));
+                                                       std::vector<int>{ids[j], ids[j + 1]}, segmentSections.back(), L));
   }
-  if (el["clamp"]) readClamp(ctx, el, path, name, ids, sec);
+  if (el["clamp"]) readClamp(ctx, el, path, name, ids, segmentSections);
   // Hinges: planar BeamHinge (dim 2) or spatial BeamHinge3D (dim 3). Rest positions of the
   // three nodes: initial, or (straight) along the first axis with the initial segment lengths.
   const int d = m.dim;
@@ -127,8 +131,10 @@ void readBeam(SceneContext& ctx, const YAML::Node& el, const std::string& path, 
     }
     const std::string hn = name + ".hinge" + std::to_string(j);
     try {
-      if (d == 2) m.elements.push_back(std::make_unique<BeamHinge>(hn, nd, sec, rest));
-      else m.elements.push_back(std::make_unique<BeamHinge3D>(hn, nd, sec, rest));
+      // Between segments j - 1 and j: their sections (one and the same without per-element parameters).
+      const auto &before = segmentSections[j - 1], &after = segmentSections[j];
+      if (d == 2) m.elements.push_back(std::make_unique<BeamHinge>(hn, nd, before, rest, 0.0, after));
+      else m.elements.push_back(std::make_unique<BeamHinge3D>(hn, nd, before, rest, 0.0, after));
     } catch (const std::invalid_argument& e) {  // e.g. a rest shape folded back at node j
       r.fail(el["nodes"][j], at(path + ".nodes", j), std::string(e.what()) + "; expected a rest shape that does not turn by 180 degrees (or rest_shape: straight)");
     }

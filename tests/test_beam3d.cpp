@@ -206,6 +206,59 @@ TEST(Beam3DHinge, DerivativesMatchFiniteDifferencesAndAD) {
               "AD vs analytic: dQ/dq %.1e, dQ/dp %.1e\n", w.grad, w.jac, w.par, w.adJac, w.adPar);
 }
 
+// A hinge between two segments of their own sections (per-element parameters): EI is the mean
+// of the two weighted by the rest lengths L1, L2 they span; every derivative, now also in the
+// second section's E and side (parameters 3, 4), against FD and AD as above, and the energy
+// against the closed form with that mean.
+TEST(Beam3DHinge, TwoSectionsBendWithTheirLengthWeightedMean) {
+  std::mt19937 rng(20261128);
+  auto a = squareSection(), b = squareSection();
+  b->E.param = 3;
+  b->side.param = 4;
+  const VecX p = (VecX(5) << 5.0e6, 1100.0, 0.01, 8.0e6, 0.013).finished();
+  const double L1 = 0.4, L2 = 0.55, EIa = a->EI(p), EIb = b->EI(p);
+  const double EI = (EIa * L1 + EIb * L2) / (L1 + L2);
+  Worst w;
+  for (double phi0 : {0.0, 0.6}) {
+    BeamHinge3D e("h2", {0, 1, 2}, a, hingeConfig(L1, L2, phi0, rng), 0.0, b);
+    for (double phi : {0.3, 1.7}) {
+      Local l(hingeConfig(0.37, 0.61, phi, rng), p);
+      checkHinge(e, l, 1e-6, w);
+      const double dev = 2.0 * std::tan(phi / 2.0) - 2.0 * std::tan(phi0 / 2.0);
+      EXPECT_NEAR(e.potential(l.s), 0.5 * EI / (0.5 * (L1 + L2)) * dev * dev, 1e-11 * EI);
+    }
+  }
+  // The planar hinge: the same mean, its parameter derivatives against FD and AD.
+  Eigen::VectorXd rest(6), x(6);
+  rest << 0, 0, L1, 0, L1 + L2, 0;
+  x << 0, 0, 0.35, 0.1, 0.8, 0.4;
+  BeamHinge planar("p2", {0, 1, 2}, a, rest, 0.0, b);
+  LocalState s;
+  s.dim = 2;
+  s.x = x;
+  s.v = VecX::Zero(6);
+  s.p = &p;
+  const VecX g = VecX::Zero(2);
+  s.gravity = &g;
+  const double phi = BeamHinge::angle(x);
+  EXPECT_NEAR(planar.potential(s), 0.5 * EI / (0.5 * (L1 + L2)) * phi * phi, 1e-12 * EI);
+  for (int k = 0; k < 5; ++k) {
+    VecX dQ, dQad;
+    MatX dM, dMad;
+    const bool dep = planar.parameterDerivative(s, k, dQ, dM);
+    ASSERT_EQ(dep, planar.parameterDerivativeAD(s, k, dQad, dMad)) << k;
+    if (!dep) continue;
+    VecX pp = p, pm = p;
+    pp[k] *= 1 + 1e-6;
+    pm[k] *= 1 - 1e-6;
+    const VecX dQfd = (forceAt(planar, s, x, &pp) - forceAt(planar, s, x, &pm)) / (2e-6 * p[k]);
+    EXPECT_LT(rel(dQ, dQfd), 1e-8) << "planar dQ/dp " << k;
+    EXPECT_LT((dQad - dQ).lpNorm<Eigen::Infinity>(), 1e-10 * dQ.lpNorm<Eigen::Infinity>()) << "planar AD " << k;
+  }
+  std::printf("  two sections: dQ/dq vs FD %.1e, dQ/dp vs FD %.1e, AD vs analytic %.1e / %.1e\n", w.jac, w.par,
+              w.adJac, w.adPar);
+}
+
 // |kb| = 2 tan(phi/2) for any orientation, U = 1/2 (EI/D)(2 tan(phi/2) - 2 tan(phi0/2))^2
 // (closed form), and the straight-rest hinge is smooth at the straight state: zero energy and
 // force there, stiffness equal to central differences of the force across the straight state,

@@ -375,6 +375,44 @@ objectives:
   checkPerElementGradients(c, 1e-6);
 }
 
+TEST(Gradient, PerElementParametersOfPositionsOnlyBeams) {
+  // Planar and spatial positions-only beams clamped at the start, one E (planar) or side
+  // (spatial) per segment: a hinge bends with its two segments' length-weighted mean EI.
+  const std::string planar = R"(dimension: 2
+gravity: [0, -9.81]
+nodes:
+  - {name: A, position: [0, 0], ground: true}
+  - {name: n1, position: [0.2, 0]}
+  - {name: n2, position: [0.45, 0]}
+  - {name: n3, position: [0.7, 0]}
+  - {name: tip, position: [1.0, 0]}
+elements:
+  - {name: arm, type: beam, nodes: [A, n1, n2, n3, tip], E: 2.0e7, density: 1000, section: {side: 0.02}, clamp: start}
+parameters:
+  - {name: E, of: arm, property: E, per: element}
+integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}
+outputs:
+  - {name: tip_y, node: tip, component: y}
+objectives:
+  - {name: tip_end, terminal: {output: tip_y}}
+  - {name: tip_sq, integral: {output: tip_y, power: 2}}
+)";
+  const Scene b2 = sceneWith(planar, "beam2d_per_element.yaml", "");
+  ASSERT_EQ(b2.model->parameters.size(), 4u);
+  EXPECT_EQ(b2.model->parameters[3].boundTo, "arm.E[3]");
+  checkPerElementGradients(b2, 1e-6);
+  std::string spatial = planar;
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"dimension: 2", "dimension: 3"}, {"gravity: [0, -9.81]", "gravity: [0, 0, -9.81]"},
+           {", 0]}", ", 0, 0]}"}, {"[0, 0], ground", "[0, 0, 0], ground"},
+           {"{name: E, of: arm, property: E, per", "{name: a, of: arm, property: side, per"}, {"component: y}", "component: z}"}})
+    for (size_t at = spatial.find(from); at != std::string::npos; at = spatial.find(from, at + to.size()))
+      spatial.replace(at, from.size(), to);
+  const Scene b3 = sceneWith(spatial, "beam3d_per_element.yaml", "");
+  ASSERT_EQ(b3.model->parameters.size(), 4u);
+  checkPerElementGradients(b3, 1e-6);
+}
+
 // ------------------------------------------------------------------ (c3) angle outputs
 const char* kChain3d = R"(dimension: 3
 gravity: [0, 0, -9.81]

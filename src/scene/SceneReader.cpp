@@ -198,8 +198,7 @@ void addPerElementParameters(SceneContext& ctx, const YAML::Node& pn, const std:
     const std::string of = family.boundTo.substr(0, family.boundTo.find('.'));
     if (ctx.bindings.count(family.boundTo))
       r.fail(pn["per"], path + ".per", "per: element binds a property of each element of a solid, a shell (bending: "
-                                       "kirchhoff), an ancf_cable or an ancf_beam; '" + of + "' is none of these (a "
-                                       "beam's hinges bend across two segments: use ancf_cable or ancf_beam)");
+                                       "kirchhoff), a beam, an ancf_cable or an ancf_beam; '" + of + "' is none of these");
     r.fail(pn["property"], path + ".property", "'" + family.boundTo + "' is no property of a body's elements");
   }
   if (sel && !sel->params.count(family.name)) return;  // not a parameter of this case
