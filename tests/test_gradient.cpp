@@ -226,6 +226,14 @@ TEST(Gradient, MasslessCoordinatesAdjointEqualsForwardAndDifferences) {
 }
 
 // ------------------------------------------------------------------ (c1) per-element parameters
+/// The per-element tests' integrator, tip output along `axis` and two objectives of it.
+std::string tipObjectives(const std::string& axis) {
+  return "integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}\noutputs:\n"
+         "  - {name: tip_" + axis + ", node: tip, component: " + axis + "}\nobjectives:\n"
+         "  - {name: tip_end, terminal: {output: tip_" + axis + "}}\n"
+         "  - {name: tip_sq, integral: {output: tip_" + axis + ", power: 2}}\n";
+}
+
 /// Adjoint against forward for every parameter, and against central differences of whole runs
 /// (relative step `rel` of the nominal value) for the parameters with the largest and the
 /// smallest adjoint gradient of objective 0.
@@ -341,13 +349,7 @@ elements:
      section: {width: 0.02, height: 0.03}}
 parameters:
   - {name: E, of: arm, property: E, per: element}
-integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}
-outputs:
-  - {name: tip_z, node: tip, component: z}
-objectives:
-  - {name: tip_end, terminal: {output: tip_z}}
-  - {name: tip_sq, integral: {output: tip_z, power: 2}}
-)";
+)" + tipObjectives("z");
   const Scene b = sceneWith(beam, "beam_per_element.yaml", "");
   ASSERT_EQ(b.model->parameters.size(), 4u);
   EXPECT_EQ(b.model->parameters[2].boundTo, "arm.E[2]");
@@ -363,13 +365,7 @@ elements:
   - {name: rope, type: ancf_cable, nodes: [A, n1, n2, tip], E: 5.0e6, density: 800, section: {side: 0.02}}
 parameters:
   - {name: rho, of: rope, property: density, per: element}
-integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}
-outputs:
-  - {name: tip_y, node: tip, component: y}
-objectives:
-  - {name: tip_end, terminal: {output: tip_y}}
-  - {name: tip_sq, integral: {output: tip_y, power: 2}}
-)";
+)" + tipObjectives("y");
   const Scene c = sceneWith(cable, "cable_per_element.yaml", "");
   ASSERT_EQ(c.model->parameters.size(), 3u);
   checkPerElementGradients(c, 1e-6);
@@ -390,13 +386,7 @@ elements:
   - {name: arm, type: beam, nodes: [A, n1, n2, n3, tip], E: 2.0e7, density: 1000, section: {side: 0.02}, clamp: start}
 parameters:
   - {name: E, of: arm, property: E, per: element}
-integrator: {type: trapezoidal, t_end: 0.05, dt: 0.001, newton: full}
-outputs:
-  - {name: tip_y, node: tip, component: y}
-objectives:
-  - {name: tip_end, terminal: {output: tip_y}}
-  - {name: tip_sq, integral: {output: tip_y, power: 2}}
-)";
+)" + tipObjectives("y");
   const Scene b2 = sceneWith(planar, "beam2d_per_element.yaml", "");
   ASSERT_EQ(b2.model->parameters.size(), 4u);
   EXPECT_EQ(b2.model->parameters[3].boundTo, "arm.E[3]");
