@@ -167,13 +167,6 @@ double BeamHinge::angle(const VecX& x) {
   return std::atan2(e1.x() * e2.y() - e1.y() * e2.x(), e1.dot(e2));
 }
 
-HingeSections::HingeSections(std::shared_ptr<BeamSection> first, std::shared_ptr<BeamSection> second, double L1,
-                             double L2)
-    : a(first), b(second && second != first ? std::move(second) : first) {
-  if (!a) throw std::invalid_argument("no section");
-  if (b != a) wa = L1 / (L1 + L2), wb = L2 / (L1 + L2);
-}
-
 std::vector<std::pair<std::string, Quantity*>> HingeSections::properties() const {
   auto out = a->properties();
   if (b != a)
@@ -181,24 +174,17 @@ std::vector<std::pair<std::string, Quantity*>> HingeSections::properties() const
   return out;
 }
 
-namespace {
-/// Rest lengths |x_b - x_a|, |x_c - x_b| [m] of three nodes' rest positions (3 dim entries each).
-std::pair<double, double> restLengths(const VecX& restX, int dim) {
-  return {(restX.segment(dim, dim) - restX.segment(0, dim)).norm(),
-          (restX.segment(2 * dim, dim) - restX.segment(dim, dim)).norm()};
-}
-}  // namespace
-
 BeamHinge::BeamHinge(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
                      const VecX& restX, double voronoiLength, std::shared_ptr<BeamSection> sectionB)
-    : KernelElement(std::move(name), std::move(nodes)),
-      sec_(section ? section : throw std::invalid_argument("beam_hinge: no section"), sectionB,
-           restX.size() == 6 ? restLengths(restX, 2).first : 1.0, restX.size() == 6 ? restLengths(restX, 2).second : 1.0) {
+    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section), std::move(sectionB)) {
   const std::string who = "beam_hinge " + this->name();
   if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
+  if (!sec_.a) throw std::invalid_argument(who + ": no section");
   if (restX.size() != 6) throw std::invalid_argument(who + ": planar only (dim must be 2)");
-  const auto [L1, L2] = restLengths(restX, 2);
+  const double L1 = (restX.segment<2>(2) - restX.segment<2>(0)).norm();
+  const double L2 = (restX.segment<2>(4) - restX.segment<2>(2)).norm();
   if (!(L1 > 0.0 && L2 > 0.0)) throw std::invalid_argument(who + ": zero rest length");
+  sec_.span(L1, L2);
   phi0_ = angle(restX);
   D_ = voronoiLength > 0.0 ? voronoiLength : 0.5 * (L1 + L2);
 }

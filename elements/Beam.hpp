@@ -68,8 +68,13 @@ struct BeamSection {
 struct HingeSections {
   std::shared_ptr<BeamSection> a, b;
   double wa = 1.0, wb = 0.0;
-  /// One section (b = a, weights (1, 0)) or two with the rest lengths L1, L2 [m] they span.
-  HingeSections(std::shared_ptr<BeamSection> first, std::shared_ptr<BeamSection> second, double L1, double L2);
+  /// One section (second null or the same: b = a, weights (1, 0)) or two.
+  HingeSections(std::shared_ptr<BeamSection> first, std::shared_ptr<BeamSection> second)
+      : a(first), b(second ? std::move(second) : std::move(first)) {}
+  /// Two sections bend over the rest lengths L1, L2 [m] they span: the weights from them.
+  void span(double L1, double L2) {
+    if (b != a) wa = L1 / (L1 + L2), wb = L2 / (L1 + L2);
+  }
   double EI(const VecX& p) const { return wa * a->EI(p) + wb * b->EI(p); }
   double dEI(const VecX& p, int k) const { return wa * a->dEI(p, k) + wb * b->dEI(p, k); }
   bool bendingDependsOn(int k) const { return a->bendingDependsOn(k) || b->bendingDependsOn(k); }

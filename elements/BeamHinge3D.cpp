@@ -75,16 +75,15 @@ Eigen::Vector3d BeamHinge3D::curvatureBinormal(const VecX& x) {
 
 BeamHinge3D::BeamHinge3D(std::string name, std::vector<int> nodes, std::shared_ptr<BeamSection> section,
                          const VecX& restX, double voronoiLength, std::shared_ptr<BeamSection> sectionB)
-    : KernelElement(std::move(name), std::move(nodes)),
-      sec_(section ? section : throw std::invalid_argument("beam_hinge3d: no section"), sectionB,
-           restX.size() == 9 ? (restX.segment<3>(3) - restX.segment<3>(0)).norm() : 1.0,
-           restX.size() == 9 ? (restX.segment<3>(6) - restX.segment<3>(3)).norm() : 1.0) {
+    : KernelElement(std::move(name), std::move(nodes)), sec_(std::move(section), std::move(sectionB)) {
   const std::string who = "beam_hinge3d " + this->name();
   if (this->nodes().size() != 3) throw std::invalid_argument(who + ": needs 3 nodes");
+  if (!sec_.a) throw std::invalid_argument(who + ": no section");
   if (restX.size() != 9) throw std::invalid_argument(who + ": spatial only (dim must be 3, 9 rest coordinates)");
   const double L1 = (restX.segment<3>(3) - restX.segment<3>(0)).norm();
   const double L2 = (restX.segment<3>(6) - restX.segment<3>(3)).norm();
   if (!(L1 > 0.0 && L2 > 0.0)) throw std::invalid_argument(who + ": zero rest length");
+  sec_.span(L1, L2);
   try {
     psi0_ = curvatureBinormal(restX).norm();
   } catch (const std::invalid_argument&) {

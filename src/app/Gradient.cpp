@@ -112,9 +112,7 @@ void addInitialTerms(const Assembler& as, const VecX& p, const State& x0, const 
   for (int first = 0; first < int(G.rows()); first += kInitialSensitivityBlock) {
     const std::vector<State> ds =
         leastNormSensitivities(as, x0, p, first, std::min(kInitialSensitivityBlock, int(G.rows()) - first));
-    for (size_t j = 0; j < ds.size(); ++j)
-      G.row(first + Eigen::Index(j)) +=
-          ds[j].q.transpose() * mu.q + ds[j].v.transpose() * mu.v + ds[j].a.transpose() * mu.a;
+    for (size_t j = 0; j < ds.size(); ++j) G.row(first + Eigen::Index(j)) += mu.termsOf(ds[j]);
   }
 }
 

@@ -255,11 +255,8 @@ MatX DiscreteAdjoint::backward(int objectives, const Source& source) {
   }
   // The start: w_0 = a_0 (generalized-alpha), then the initial sensitivities.
   mu.a += mu.w;
-  for (size_t kk = 0; kk < start_.dp.size(); ++kk) {
-    const State& d = start_.dp[kk];
-    gradient.row(Eigen::Index(kk)) += d.q.transpose() * mu.q + d.v.transpose() * mu.v + d.a.transpose() * mu.a;
-  }
   startAdjoints_ = {std::move(mu.q), std::move(mu.v), std::move(mu.a)};
+  for (size_t kk = 0; kk < start_.dp.size(); ++kk) gradient.row(Eigen::Index(kk)) += startAdjoints_.termsOf(start_.dp[kk]);
   st_.backwardFactorizations = step.factorizations();
   st_.backwardSeconds = secondsSince(t0);
   return gradient;

@@ -49,6 +49,10 @@ long checkpointInterval(long steps, double stateBytes, long requested);
 /// dq_0/dp^T q + dv_0/dp^T v + da_0/dp^T a from the initial sensitivities.
 struct StartAdjoints {
   MatX q, v, a;
+  /// A parameter's row of those terms (one entry per objective), d its initial sensitivity.
+  Eigen::RowVectorXd termsOf(const State& d) const {
+    return d.q.transpose() * q + d.v.transpose() * v + d.a.transpose() * a;
+  }
 };
 
 class DiscreteAdjoint {
