@@ -138,11 +138,7 @@ MatX adjointGradients(const Scene& sc, const Assembler& as, const VecX& p, const
 /// Static scenes: every objective asked for is terminal (or a sum of terminals).
 void requireStaticObjectives(const Scene& sc, const std::vector<size_t>& sel) {
   for (size_t i : sel) {
-    const ObjectiveSpec& o = sc.objectives[i];
-    std::vector<int> leaves;
-    if (o.kind == "sum") for (const auto& [k, w] : o.terms) leaves.push_back(k);
-    else leaves.push_back(int(i));
-    for (int k : leaves)
+    for (const auto& [k, w] : objectiveLeaves(sc.objectives, i))
       if (sc.objectives[size_t(k)].kind != "mass" &&
           (sc.objectives[size_t(k)].kind != "terminal" || sc.objectives[size_t(k)].at >= 0))
         throw InputError(sc.objectives[size_t(k)].where + ": objective '" + sc.objectives[size_t(k)].name +

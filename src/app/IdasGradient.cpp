@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 
+#include "app/Objectives.hpp"
 #include "integrators/Idas.hpp"
 #include "integrators/IdasAdjoint.hpp"
 #include "integrators/IdasStepper.hpp"
@@ -31,10 +32,8 @@ class ContinuousObjectives {
   ContinuousObjectives(const Scene& sc, const std::vector<size_t>& sel, double t0, double tEnd, Eigen::Index np)
       : sc_(sc), t0_(t0), tEnd_(tEnd), np_(np) {
     for (size_t i : sel) {
-      std::vector<std::pair<int, double>> all, terms;
-      if (sc.objectives[i].kind == "sum") all = sc.objectives[i].terms;
-      else all.push_back({int(i), 1.0});
-      for (const auto& [k, w] : all)  // a mass has no part in the motion (Gradient.cpp adds it)
+      std::vector<std::pair<int, double>> terms;
+      for (const auto& [k, w] : objectiveLeaves(sc.objectives, i))  // a mass has no part in the motion (Gradient.cpp adds it)
         if (sc.objectives[size_t(k)].kind != "mass") terms.push_back({k, w});
       for (const auto& [k, w] : terms) sums_[k].gradient = VecX::Zero(np);
       terms_.push_back(terms);
@@ -160,9 +159,7 @@ class ContinuousObjectives {
 
 void requireIdasAdjointObjectives(const Scene& sc, const std::vector<size_t>& sel) {
   for (size_t i : sel) {
-    std::vector<std::pair<int, double>> terms = sc.objectives[i].terms;
-    if (sc.objectives[i].kind != "sum") terms = {{int(i), 1.0}};
-    for (const auto& [k, w] : terms)
+    for (const auto& [k, w] : objectiveLeaves(sc.objectives, i))
       if (const ObjectiveSpec& o = sc.objectives[size_t(k)];
           o.kind == "terminal" && o.at >= 0 && o.at < sc.integrator.tEnd * (1.0 - 1e-12))
         throw InputError(o.where + ": objective '" + o.name +

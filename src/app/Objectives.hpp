@@ -12,6 +12,7 @@
 // forward method) and dJ/do_n is the adjoint's source at step n.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "core/Types.hpp"
@@ -36,5 +37,11 @@ void addObjectiveDerivative(const std::vector<ObjectiveSpec>& objectives, size_t
 /// InputError (the objective's file:line and key) when a time of objective i lies beyond the
 /// run's end (t_end changed by --t-end after the scene was read).
 void checkObjectiveTimes(const ObjectiveSpec& objective, double tEnd);
+
+/// Objective i as (leaf objective index, weight) pairs: a sum's terms, any other kind itself.
+inline std::vector<std::pair<int, double>> objectiveLeaves(const std::vector<ObjectiveSpec>& objectives, size_t i) {
+  if (objectives[i].kind == "sum") return objectives[i].terms;
+  return {{int(i), 1.0}};
+}
 
 }  // namespace flexsens
