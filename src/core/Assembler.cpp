@@ -1,5 +1,6 @@
 #include "core/Assembler.hpp"
 
+#include <map>
 #include <optional>
 
 namespace flexsens {
@@ -38,8 +39,18 @@ Assembler::Assembler(const Model& model, const ConstraintList* constraints, Deri
     m_ += c->rows();
     rheonomic_ = rheonomic_ || c->rheonomic();
   }
-  elemOut_.resize(model_.elements.size());
-  consOut_.resize(cons_.size());
+  assignScratch();
+}
+
+void Assembler::assignScratch() {
+  std::map<std::pair<size_t, int>, size_t> shapes;  // (local size, rows; -1: an element) -> entry
+  auto entry = [&](size_t local, int rows) {
+    const auto it = shapes.emplace(std::make_pair(local, rows), shapes.size()).first;
+    return it->second;
+  };
+  for (const auto& map : elemDofs_) elemScratch_.push_back(entry(map.size(), -1));
+  for (size_t c = 0; c < cons_.size(); ++c) consScratch_.push_back(entry(consDofs_[c].size(), cons_[c]->rows()));
+  scratch_.resize(shapes.size());
 }
 
 void Assembler::setLoadFactor(double s) const { loadFactor_ = s; }
@@ -73,17 +84,17 @@ LocalState Assembler::localState(const std::vector<int>& nodes, const VecX& q, c
 }
 
 const LocalState& Assembler::elementState(size_t e, const VecX& q, const VecX& v, const VecX& p) const {
-  if (elemScratch_.size() != model_.elements.size()) elemScratch_.resize(model_.elements.size());
   const Element& el = *model_.elements[e];
-  gatherLocalState(elemScratch_[e], el.nodes(), elemDofs_[e], q, v, p, el.gradients());
-  return elemScratch_[e];
+  LocalState& s = scratch_[elemScratch_[e]].state;
+  gatherLocalState(s, el.nodes(), elemDofs_[e], q, v, p, el.gradients());
+  return s;
 }
 
 const LocalState& Assembler::constraintState(size_t c, const VecX& q, const VecX& v, const VecX& p) const {
-  if (consScratch_.size() != cons_.size()) consScratch_.resize(cons_.size());
   const Constraint& co = *cons_[c];
-  gatherLocalState(consScratch_[c], co.nodes(), consDofs_[c], q, v, p, co.gradients());
-  return consScratch_[c];
+  LocalState& s = scratch_[consScratch_[c]].state;
+  gatherLocalState(s, co.nodes(), consDofs_[c], q, v, p, co.gradients());
+  return s;
 }
 
 void Assembler::gatherLocalState(LocalState& s, const std::vector<int>& nodes, const std::vector<int>& map,
@@ -183,7 +194,7 @@ void Assembler::elementForces(const VecX& q, const VecX& v, const VecX& p, bool 
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
     if (potentialOnly && el.externalWork()) continue;  // no potential: all its force is work
-    VecX& Ql = elemOut_[e].vec;
+    VecX& Ql = scratch_[elemScratch_[e]].vec;
     el.force(elementState(e, q, v, p), Ql);
     if (el.isLoad()) Ql *= loadFactor_;
     const auto& map = elemDofs_[e];
@@ -236,7 +247,7 @@ VecX Assembler::phi(const VecX& q, const VecX& p) const {
   VecX r(m());
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    VecX& pl = consOut_[c].vec;
+    VecX& pl = scratch_[consScratch_[c]].vec;
     co.phi(constraintState(c, q, VecX(), p), pl);
     r.segment(consRow_[c], co.rows()) = pl;
   }
@@ -247,7 +258,7 @@ VecX Assembler::phiQTimes(const VecX& q, const VecX& p, const VecX& x) const {
   VecX r = VecX::Zero(m());
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    MatX& J = consOut_[c].a;
+    MatX& J = scratch_[consScratch_[c]].a;
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     const auto& map = consDofs_[c];
     for (size_t j = 0; j < map.size(); ++j)
@@ -260,7 +271,7 @@ VecX Assembler::phiQTransposeTimes(const VecX& q, const VecX& p, const VecX& l) 
   VecX r = VecX::Zero(n());
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    MatX& J = consOut_[c].a;
+    MatX& J = scratch_[consScratch_[c]].a;
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     addTransposeTimes(J, consDofs_[c], l.segment(consRow_[c], co.rows()), r);
   }
@@ -272,8 +283,8 @@ void Assembler::constraintTerms(const VecX& q, const VecX& p, const VecX& l, Vec
   phiQTl.setZero(n());
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    VecX& pl = consOut_[c].vec;
-    MatX& J = consOut_[c].a;
+    VecX& pl = scratch_[consScratch_[c]].vec;
+    MatX& J = scratch_[consScratch_[c]].a;
     const LocalState& s = constraintState(c, q, VecX(), p);
     co.phi(s, pl);
     phi.segment(consRow_[c], co.rows()) = pl;
@@ -502,8 +513,8 @@ void Assembler::addMassAndForceJacobian(SparseAccumulator& acc, const VecX& q, c
   const std::vector<MatX>* masses = sm != 0.0 ? &elementMasses(p) : nullptr;
   for (size_t e = 0; e < model_.elements.size(); ++e) {
     const auto& el = *model_.elements[e];
-    MatX& Kq = elemOut_[e].a;
-    MatX& Kv = elemOut_[e].b;
+    MatX& Kq = scratch_[elemScratch_[e]].a;
+    MatX& Kv = scratch_[elemScratch_[e]].b;
     elementForceJacobian(el, elementState(e, q, v, p), Kq, Kv);
     const double lf = el.isLoad() ? loadFactor_ : 1.0;
     Kq *= -sq * lf;
@@ -517,7 +528,7 @@ void Assembler::addPhiQ(SparseAccumulator& acc, const VecX& q, const VecX& p, do
                         int64_t r0, int64_t c0, bool transposed) const {
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    MatX& J = consOut_[c].a;
+    MatX& J = scratch_[consScratch_[c]].a;
     constraintJacobian(co, constraintState(c, q, VecX(), p), J);
     const std::vector<int>& rows = consRows_[c];
     if (transposed)
@@ -534,7 +545,7 @@ void Assembler::addHessian(SparseAccumulator& acc, const VecX& q, const VecX& p,
   if (hessianPattern_.size() != cons_.size()) hessianPattern_.assign(cons_.size(), {});
   for (size_t c = 0; c < cons_.size(); ++c) {
     const auto& co = *cons_[c];
-    MatX& H = consOut_[c].b;
+    MatX& H = scratch_[consScratch_[c]].b;
     const LocalState& ls = constraintState(c, q, VecX(), p);
     const int nl = static_cast<int>(consDofs_[c].size());
     const auto& map = consDofs_[c];

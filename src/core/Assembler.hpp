@@ -156,8 +156,9 @@ class Assembler {
   LocalState localState(const Constraint& c, const VecX& q, const VecX& v, const VecX& p) const {
     return localState(c.nodes(), q, v, p, c.gradients());
   }
-  /// The local state of element e / constraint c in a buffer kept per element / constraint
-  /// (no allocation once sized; valid until the next call for the same e / c).
+  /// The local state of element e / constraint c in a buffer shared by the elements
+  /// (constraints) of its local size (no allocation once sized; valid until the next call for
+  /// an element / constraint of that size).
   const LocalState& elementState(size_t e, const VecX& q, const VecX& v, const VecX& p) const;
   const LocalState& constraintState(size_t c, const VecX& q, const VecX& v, const VecX& p) const;
   const std::vector<int>& elementDofs(size_t e) const { return elemDofs_[e]; }
@@ -199,16 +200,21 @@ class Assembler {
   void setEvaluationPoint(LocalState& s, const VecX& p) const;  ///< p, t and gravity of s
   /// r[map[j]] += (J^T l)_j for the entries map[j] >= 0.
   static void addTransposeTimes(const MatX& J, const std::vector<int>& map, Eigen::Ref<const VecX> l, VecX& r);
-  mutable std::vector<LocalState> elemScratch_, consScratch_;  ///< elementState, constraintState
-  /// Kernel outputs kept per element (Q; dQ/dq, dQ/dv) and per constraint (phi; Phi_q, one
-  /// Hessian row): each kernel writes the same sizes at every call, while one buffer shared by
-  /// all of them was resized, so freed and allocated, from kernel to kernel (malloc and free
-  /// were ~16% of the n = 8 flexible five-bar's run).
-  struct KernelOut {
+  /// A local state and the kernel outputs (Q or phi; dQ/dq or Phi_q; dQ/dv or a Hessian row)
+  /// shared by the elements (constraints) of one local shape: local size (and rows). Each
+  /// kernel writes the same sizes at every call, so nothing is resized from one element to the
+  /// next (one buffer for all kernels was freed and allocated from kernel to kernel: malloc and
+  /// free ~16% of the n = 8 flexible five-bar's run), and the few buffers stay in cache (one
+  /// per element was 13 MB on the shell panel at n = 24495, where gathering the local states
+  /// took 14% of the run against 5% at n = 1800).
+  struct Scratch {
+    LocalState state;
     VecX vec;
     MatX a, b;
   };
-  mutable std::vector<KernelOut> elemOut_, consOut_;
+  mutable std::vector<Scratch> scratch_;
+  std::vector<size_t> elemScratch_, consScratch_;  ///< each element's / constraint's scratch_ entry
+  void assignScratch();
   std::vector<std::vector<int>> consRows_;  ///< each constraint's global rows (consRow_ on)
   /// Per design parameter k: the elements (constraints) whose Q or M (Phi) depend on it, found
   /// at the first derivative with respect to k by asking each one (a kernel's "false" is

@@ -1,5 +1,7 @@
 #include "core/CholeskyFactor.hpp"
 
+#include <omp.h>
+
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -50,6 +52,13 @@ CholeskyFactor::CholeskyFactor() {
   common_.postorder = 1;
   common_.quick_return_if_not_posdef = 1;
   common_.error_handler = nullptr;
+  // Debian's CHOLMOD runs its supernodal assembly loops on 4 OpenMP threads (compiled in,
+  // CHOLMOD_OMP_NUM_THREADS), more than the machines flexsens measures on have cores; their
+  // wake-ups and spins were 15-20% of the solid pendulum's run at n = 24603 and the
+  // factorizations took 1.7-2.2x longer than on one thread (bench/scaling/meshed_per_step.md).
+  // flexsens runs one thread per process (MPI ranks spread sweeps and cases), so OpenMP
+  // parallel regions run serially: max-active-levels 0 makes every region inactive.
+  omp_set_max_active_levels(0);
 }
 
 CholeskyFactor::~CholeskyFactor() {

@@ -97,28 +97,26 @@ bool NewtonSolver::fullNewton(StepEquations& eq, bool backtrack) {
 // Modified Newton: the factorization kept from earlier iterations or steps, refreshed at
 // the current iterate when the contraction rate theta = |dq_k| / |dq_k-1| (same matrix)
 // exceeds kRefreshRate (that update is dropped), when theta predicts more iterations than
-// the budget left, or when h changed. A matrix of an earlier step that leads away restarts
-// the step from the predictor with a fresh one. The same convergence test as full Newton,
-// made stricter by theta / (1 - theta) (the error left after a linearly converging update)
-// should theta exceed 1/2. False: full Newton redoes the step. In a step after one whose
-// chord contracted slower than kAndersonAbove, the chord steps are Anderson-accelerated.
+// the budget left, or when h changed. The same convergence test as full Newton, made stricter
+// by theta / (1 - theta) (the error left after a linearly converging update) should theta
+// exceed 1/2. False: full Newton redoes the step. In a step after one whose chord contracted
+// slower than kAndersonAbove, the chord steps are Anderson-accelerated.
 bool NewtonSolver::modifiedNewton(StepEquations& eq) {
   anderson_.reset();  // its history belongs to this step's residual and this matrix
   double slowest = 0.0;
   VecX r;
   startAt(eq, r);
   lastResidual_ = r.lpNorm<Eigen::Infinity>();
-  double previous = 0.0;  // |dq| of the last update with the current matrix; 0: none yet
-  bool atCurrent = false;  // the matrix was factorized at the current iterate
-  bool earlier = true;     // ... at an iterate of an earlier step
-  auto refresh = [&]() {
+  Chord chord;
+  auto refresh = [&](bool atStart) {
     factorAt(eq, q_, lt_, "");
-    previous = 0.0;
-    atCurrent = true;
-    earlier = false;
+    chord = Chord{};
+    chord.fresh = true;
+    chord.stale = false;
+    chord.atStart = atStart;
     anderson_.reset();
   };
-  if (!lu_.factorized() || factoredCa_ != eq.scheme().ca || skipReuse_ > 0) refresh();
+  if (!lu_.factorized() || factoredCa_ != eq.scheme().ca || skipReuse_ > 0) refresh(true);
   for (int it = 0; it < set_.maxNewtonIterations; ++it) {
     // One plain solve: the matrix is in general an earlier iterate's, so refining the solve
     // against it buys nothing the next residual does not correct (satellite, 10 s: 11% of
@@ -126,17 +124,19 @@ bool NewtonSolver::modifiedNewton(StepEquations& eq) {
     const VecX dx = lu_.solve(VecX(-r), false);
     st_.newtonIterations++;
     const double update = dx.head(n_).lpNorm<Eigen::Infinity>();
-    const double theta = previous > 0.0 ? update / previous : 0.0;
+    const double theta = chord.previous > 0.0 ? update / chord.previous : 0.0;
     slowest = std::max(slowest, theta);
+    if (theta > 0.0 && theta <= kRefreshRate) chord.confirmed = true;
+    if (chord.previous == 0.0) chord.first = update;
     // Diverging or contracting slowly: drop the update (a slow one can lead away, as
-    // on the satellite's light spring nodes) and refresh at the current iterate.
+    // on the satellite's light spring nodes) and refresh.
     if (!dx.allFinite() || theta > kRefreshRate) {
-      if (atCurrent) return false;
-      if (earlier) {  // the first update, unchecked, may have been the bad one: start over
-        startAt(eq, r);
-        staleFailed_ = true;
+      if (chord.fresh) {
+        return false;
       }
-      refresh();
+      const bool restart = rejectedChord(chord);
+      if (restart) startAt(eq, r);
+      refresh(restart);
       continue;
     }
     if (slowChord_) {  // Anderson acceleration of the chord step (AndersonMixing.hpp)
@@ -149,21 +149,36 @@ bool NewtonSolver::modifiedNewton(StepEquations& eq) {
       q_ += dx.head(n_);
       lt_ += dx.tail(m_);
     }
-    atCurrent = false;
+    chord.fresh = false;
     lastUpdate_ = update;
     const double tol = set_.newtonTol * (1.0 + q_.lpNorm<Eigen::Infinity>());
     if (update * std::max(1.0, theta / (1.0 - theta)) <= tol) {
       slowChord_ = slowest > kAndersonAbove;
+      lastCorrection_ = (q_ - qPredicted_).lpNorm<Eigen::Infinity>();
       return true;
     }
     r = eq.residual(q_, lt_);
     lastResidual_ = r.lpNorm<Eigen::Infinity>();
-    previous = update;
+    chord.previous = update;
     // Iterations still needed at this rate: theta^k |dq| <= tol.
     const double needed = theta > 0.0 ? std::log(tol / update) / std::log(theta) : 0.0;
-    if (it + 1 + needed > set_.maxNewtonIterations) refresh();
+    if (it + 1 + needed > set_.maxNewtonIterations) refresh(false);
   }
   return false;
+}
+
+// A chord dropped after its first update or later: restart the step from the start point
+// (true) or refresh at the current iterate (false). A matrix of an earlier step may have led
+// away with its first update (the satellite's light spring nodes, thrown metres off by a
+// matrix of stiffer days): unless a contracting update confirmed it, or it is no larger than
+// twice the last step's whole correction from its predictor, the step restarts with a fresh
+// matrix at the start point. (The thin shell panel at n = 24495: a first update of the
+// predictor's size takes out its membrane error, after which the matrix at that iterate
+// converges at once and any other contracts at 0.55-0.8; restarts doubled the factorizations.)
+bool NewtonSolver::rejectedChord(const Chord& chord) {
+  if (!chord.stale || chord.confirmed || chord.first <= 2.0 * lastCorrection_) return false;
+  staleFailed_ = true;
+  return true;
 }
 
 bool NewtonSolver::modifiedWithBackoff(StepEquations& eq) {

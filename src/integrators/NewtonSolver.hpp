@@ -38,6 +38,16 @@ class NewtonSolver {
   bool factorizedNear(const VecX& q, const VecX& l, long step, double ca, double tol) const;
 
  private:
+  /// The chord of one matrix within a step.
+  struct Chord {
+    double previous = 0.0;   ///< |dq| of its last update; 0: none yet
+    double first = 0.0;      ///< |dq| of its first update
+    bool fresh = false;      ///< factorized at the current iterate (no update since)
+    bool atStart = false;    ///< factorized at the step's start point
+    bool stale = true;       ///< factorized in an earlier step
+    bool confirmed = false;  ///< an update followed by a contracting one
+  };
+  bool rejectedChord(const Chord& chord);
   bool fullNewton(StepEquations& eq, bool backtrack);
   bool modifiedNewton(StepEquations& eq);
   /// Modified Newton with the reuse back-off around it (true: converged).
@@ -65,6 +75,7 @@ class NewtonSolver {
   VecX xk_;                  // its iterate (q, lambda)
   bool slowChord_ = false;   // the last step's chord contracted slower than kAndersonAbove
   bool staleFailed_ = false; // the matrix of an earlier step led away: the step restarted
+  double lastCorrection_ = 0.0;  // |q_n+1 - predictor|_inf of the last modified Newton step [m]
   VecX qPredicted_, q_, lt_;
   double lastUpdate_ = 0.0, lastResidual_ = 0.0;
 };
