@@ -1,6 +1,6 @@
 // A candidate solver for the Newton matrices of constrained continua, measured in
 // bench/linear/constrained.cpp (flexsens itself factors them with MUMPS' LDL^T, core/MumpsFactor,
-// 1.8-3.7x faster than this on the same matrices):
+// 1.9-6.2x faster than this on the same matrices):
 //   A = [K  C]   K: the unknowns with a nonzero diagonal (coordinates), symmetric positive
 //       [B  D]      definite (M/(beta h^2) + K_t of a meshed body, its constraint rows' Hessian);
 //                the border: the m others (Lagrange multipliers: D = 0, C = B^T when A is symmetric),

@@ -2,9 +2,9 @@
 // libmumps-seq-dev; multifrontal, 1x1 and 2x2 pivots, AMD ordering, one thread), for the
 // Newton matrices of constrained continua: [M/(beta h^2) + K + (Phi_q^T l)_q, Phi_q^T; Phi_q, 0]
 // of meshed bodies held by support, symmetry or attach rows or joined to other bodies. On
-// those matrices it factors 1.8-8x faster than KLU (n = 1.7k-21k) and faster than CHOLMOD on
-// the elastic block alone with a Schur complement for the multipliers (bench/linear/
-// constrained.md). SparseLU decides when to use it; it reads only the lower triangle, so A
+// those matrices it factors 2.8-11x faster than KLU (n = 1.7k-25k) and 1.9-6.2x faster than
+// CHOLMOD on the elastic block with a dense Schur complement for the multipliers
+// (bench/linear/constrained.md). SparseLU decides when to use it; it reads only the lower triangle, so A
 // must be symmetric (symmetric() checks, each factorization).
 #pragma once
 

@@ -44,7 +44,7 @@ namespace {
 /// per factorization than KLU on small matrices (the five-bar's meshed link, n = 1499,
 /// 0.4 MFLOP: KLU 0.3 ms, MUMPS 1.0 ms; the satellite refined 10 times, n = 5640, 3.6 MFLOP:
 /// 1.6 against 3.2 ms) and runs at 2-4x KLU's flop rate on large ones (the solid pendulum held
-/// by support rows, n = 1721, 15 MFLOP: 9.0 against 3.2 ms; n = 20870: 962 against 122 ms):
+/// by support rows, n = 1721, 14 MFLOP: 9.0 against 3.2 ms; n = 20870: 1078 against 125 ms):
 /// from 10 MFLOP on MUMPS is clearly ahead (bench/linear/constrained.md).
 constexpr double kLdltFromFlops = 1e7;
 /// Matrices with fewer entries than this are never analysed for LDL^T: their factorization
