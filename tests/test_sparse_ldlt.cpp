@@ -125,6 +125,17 @@ TEST(SparseLDLT, ConstrainedContinuumSolvesLikeKlu) {
   }
 }
 
+// FLEXSENS_LINEAR_SOLVER other than auto, cholesky or klu is refused with what it accepts.
+TEST(SparseLDLT, UnknownSolverChoiceIsAnInputError) {
+  SolverChoice choice("mumps");
+  try {
+    SparseLU lu;
+    FAIL() << "FLEXSENS_LINEAR_SOLVER=mumps was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected auto, cholesky or klu"), std::string::npos) << e.what();
+  }
+}
+
 // What stays on KLU: a small constrained matrix (a few MFLOP: KLU is faster there), an
 // unsymmetric one (a follower load's dQ/dq), and a singular one (a repeated constraint row),
 // which KLU reports as singular with the matrix's name.
