@@ -7,6 +7,7 @@ PACKAGES=(
   libeigen3-dev                      # dense/sparse linear algebra
   libsuitesparse-dev                 # KLU sparse LU, CHOLMOD sparse Cholesky
   libopenblas0-serial                # BLAS of CHOLMOD's supernodes (faster than the reference BLAS)
+  libmumps-seq-dev                   # MUMPS' sparse LDL^T (sequential): Newton matrices of constrained continua
   libsundials-dev                    # IDAS (+ nvecserial, sunmatrixsparse, sunlinsolklu)
   libgmsh-dev                        # Gmsh SDK (geometry -> node chains)
   libseccomp-dev                     # system-call filter of the sandboxed Gmsh child

@@ -3,7 +3,8 @@
 // for each candidate, reports fill nnz(L+U)/nnz(A), the analysis time, the time of one
 // numeric factorization (best of 5), the scaled residual of one solve and its rcond.
 //
-//   compare N_COORDINATES FILE.mtx
+//   compare N_COORDINATES FILE.mtx            (the LU candidates; CHOLMOD too without constraint rows)
+//   compare --constrained FILE.mtx           (constrained.cpp's candidates for [K, B^T; B, 0])
 //
 // The first N_COORDINATES unknowns are coordinates, the rest Lagrange multipliers.
 #include <amd.h>
@@ -181,7 +182,16 @@ Row cholmod(const SpMat& A, const Vec& b, const std::string& name, int ordering,
 
 }  // namespace
 
+void constrainedTable(const SpMat& A);
+
 int main(int argc, char** argv) {
+  if (argc == 3 && std::string(argv[1]) == "--constrained") {
+    SpMat A;
+    if (!Eigen::loadMarket(A, argv[2])) { std::fprintf(stderr, "cannot read %s\n", argv[2]); return 2; }
+    A.makeCompressed();
+    constrainedTable(A);
+    return 0;
+  }
   if (argc != 3) { std::fprintf(stderr, "usage: compare N_COORDINATES FILE.mtx\n"); return 2; }
   const int64_t ncoord = std::atol(argv[1]);
   SpMat A;

@@ -38,6 +38,7 @@ void add(IntegratorStats& a, const IntegratorStats& b) {
   a.acceleratedIterations += b.acceleratedIterations;
   a.luFill = std::max(a.luFill, b.luFill);
   a.choleskyFactorizations += b.choleskyFactorizations;
+  a.ldltFactorizations += b.ldltFactorizations;
   a.factorizationSeconds += b.factorizationSeconds;
 }
 

@@ -215,6 +215,7 @@ std::string summaryJson(const Scene& sc, const IntegratorStats& st, double wall,
      << st.errorTestFailures << ", \"convergence_failures\": " << st.convergenceFailures
      << ", \"accelerated_iterations\": " << st.acceleratedIterations << ", \"lu_fill\": " << jsonNumber(st.luFill)
      << ", \"cholesky_factorizations\": " << st.choleskyFactorizations
+     << ", \"ldlt_factorizations\": " << st.ldltFactorizations
      << ", \"factorization_seconds\": " << jsonNumber(st.factorizationSeconds) << "},\n";
   js << "  \"max_constraint_violation\": " << jsonNumber(st.maxConstraintViolation) << ",\n";
   js << "  \"energy\": " << energy << ",\n";

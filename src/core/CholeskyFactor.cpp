@@ -19,12 +19,6 @@ constexpr double kSymmetryTolerance = 1e-11;
 /// 9.4 ms) and costs 2.5x AMD's analysis; on the solid pendulum the two are even.
 constexpr size_t kTryMetisFrom = 20000;
 
-bool samePattern(const SpMat& a, const SpMat& b) {
-  return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
-         std::memcmp(a.outerIndexPtr(), b.outerIndexPtr(), sizeof(int64_t) * (a.cols() + 1)) == 0 &&
-         std::memcmp(a.innerIndexPtr(), b.innerIndexPtr(), sizeof(int64_t) * a.nonZeros()) == 0;
-}
-
 /// CHOLMOD's view of a compressed lower triangle (no copy).
 cholmod_sparse lowerView(SpMat& lower) {
   cholmod_sparse s{};
@@ -42,6 +36,29 @@ cholmod_sparse lowerView(SpMat& lower) {
   return s;
 }
 }  // namespace
+
+bool samePattern(const SpMat& a, const SpMat& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
+         std::memcmp(a.outerIndexPtr(), b.outerIndexPtr(), sizeof(int64_t) * (a.cols() + 1)) == 0 &&
+         std::memcmp(a.innerIndexPtr(), b.innerIndexPtr(), sizeof(int64_t) * a.nonZeros()) == 0;
+}
+
+std::vector<int64_t> transposePositions(const SpMat& A) {
+  const int64_t n = A.cols();
+  const int64_t* outer = A.outerIndexPtr();
+  const int64_t* inner = A.innerIndexPtr();
+  std::vector<int64_t> map(size_t(A.nonZeros()), -1);
+  std::vector<int64_t> cursor(outer, outer + n);  // next unmatched entry of each column
+  for (int64_t j = 0; j < n; ++j)
+    for (int64_t k = outer[j]; k < outer[j + 1]; ++k) {
+      const int64_t i = inner[k];  // A(i, j) is at k; A(j, i) is in column i, rows ascending
+      while (cursor[i] < outer[i + 1] && inner[cursor[i]] < j) ++cursor[i];
+      if (cursor[i] < outer[i + 1] && inner[cursor[i]] == j) map[size_t(k)] = cursor[i];
+    }
+  for (int64_t t : map)
+    if (t < 0) return {};
+  return map;
+}
 
 CholeskyFactor::CholeskyFactor() {
   cholmod_l_start(&common_);
@@ -78,21 +95,13 @@ void CholeskyFactor::analyse(const SpMat& A) {
   const int64_t n = A.cols();
   const int64_t* outer = A.outerIndexPtr();
   const int64_t* inner = A.innerIndexPtr();
-  std::vector<int64_t> map(size_t(A.nonZeros()), -1);
-  std::vector<int64_t> cursor(outer, outer + n);  // next unmatched entry of each column
-  for (int64_t j = 0; j < n; ++j)
-    for (int64_t k = outer[j]; k < outer[j + 1]; ++k) {
-      const int64_t i = inner[k];  // A(i, j) is at k; A(j, i) is in column i, rows ascending
-      while (cursor[i] < outer[i + 1] && inner[cursor[i]] < j) ++cursor[i];
-      if (cursor[i] < outer[i + 1] && inner[cursor[i]] == j) map[size_t(k)] = cursor[i];
-    }
+  std::vector<int64_t> map = transposePositions(A);
   bool complete = true;
   for (int64_t j = 0; j < n && complete; ++j) {
     bool diagonal = false;
     for (int64_t k = outer[j]; k < outer[j + 1]; ++k) diagonal |= inner[k] == j;
     complete = diagonal;
   }
-  for (int64_t t : map) complete &= t >= 0;
   transposeOf_ = complete ? std::move(map) : std::vector<int64_t>();
   lower_ = A.triangularView<Eigen::Lower>();
   lower_.makeCompressed();

@@ -14,6 +14,12 @@
 
 namespace flexsens {
 
+/// Same dimensions and the same stored entries (the values may differ).
+bool samePattern(const SpMat& a, const SpMat& b);
+/// For each stored entry A(i, j), the position of A(j, i); empty when some entry has no
+/// transpose (a structurally unsymmetric A).
+std::vector<int64_t> transposePositions(const SpMat& A);
+
 class CholeskyFactor {
  public:
   CholeskyFactor();

@@ -21,6 +21,13 @@ SparseLU::SparseLU() {
   // backward-error test (core/PreconditionedSolve) see any loss of accuracy.
   common_.tol = 1e-6;
   common_.btf = 0;  // one block: BTF finds none in these matrices and costs an analysis pass
+  if (const char* choice = std::getenv("FLEXSENS_LINEAR_SOLVER")) {
+    const std::string c = choice;
+    if (c == "klu") choice_ = Choice::KluOnly;
+    else if (c == "cholesky") choice_ = Choice::NoLdlt;
+    else if (c != "auto" && !c.empty())
+      throw InputError("FLEXSENS_LINEAR_SOLVER='" + c + "' in the environment: expected auto, cholesky or klu");
+  }
 }
 SparseLU::~SparseLU() { release(); }
 
@@ -30,14 +37,21 @@ void SparseLU::release() {
 }
 
 namespace {
+/// Flops of a factorization from which a symmetric matrix with constraint rows is factored by
+/// MUMPS instead of KLU: MUMPS' predicted flops, or KLU's own count once KLU has factored the
+/// pattern (KLU can fill far beyond MUMPS: the five-bar's link modelled rigid, 90 MFLOP and
+/// 52 ms in KLU, 7 ms in MUMPS, whose analysis predicted 0.4 MFLOP). MUMPS costs ~0.5 ms more
+/// per factorization than KLU on small matrices (the five-bar's meshed link, n = 1499,
+/// 0.4 MFLOP: KLU 0.3 ms, MUMPS 1.0 ms; the satellite refined 10 times, n = 5640, 3.6 MFLOP:
+/// 1.6 against 3.2 ms) and runs at 2-4x KLU's flop rate on large ones (the solid pendulum held
+/// by support rows, n = 1721, 14 MFLOP: 9.0 against 3.2 ms; n = 20870: 1078 against 125 ms):
+/// from 10 MFLOP on MUMPS is clearly ahead (bench/linear/constrained.md).
+constexpr double kLdltFromFlops = 1e7;
+/// Matrices with fewer entries than this are never analysed for LDL^T: their factorization
+/// costs at most a few MFLOP in the models measured (multibody matrices, fill ~1.3).
+constexpr Eigen::Index kLdltFromNonzeros = 20000;
 /// Scales below this are round-off at the underflow level (1e3 DBL_MIN / DBL_EPSILON ~ 1e-289).
 constexpr double kUnderflowScale = 1e3 * std::numeric_limits<double>::min() / std::numeric_limits<double>::epsilon();
-
-bool samePattern(const SpMat& a, const SpMat& b) {
-  return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
-         std::memcmp(a.outerIndexPtr(), b.outerIndexPtr(), sizeof(int64_t) * (a.cols() + 1)) == 0 &&
-         std::memcmp(a.innerIndexPtr(), b.innerIndexPtr(), sizeof(int64_t) * a.nonZeros()) == 0;
-}
 }  // namespace
 
 namespace {
@@ -68,11 +82,17 @@ void SparseLU::factor(const SpMat& A, const std::function<std::string()>& what) 
   if (samePattern(A, matrix_)) std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), matrix_.valuePtr());
   else matrix_ = A;
   const auto start = std::chrono::steady_clock::now();
+  ldlt_ = nullptr;
   const bool cholesky = factorCholesky(A);
-  if (!cholesky) factorLU(A, what);  // throws NumericalError for a singular A
+  bool ldlt = !cholesky && factorLDLT(A);
+  // KLU throws NumericalError for a singular A. A pattern KLU filled beyond kLdltFromFlops goes
+  // to LDL^T at once: a run under modified Newton may factor it only once and then pay KLU's
+  // filled solves at every iteration (the five-bar's rigid link, 0.3 s: 15.0 s against 3.4 s).
+  if (!cholesky && !ldlt) ldlt = factorLU(A, what) && factorLDLT(A);
   ++count_;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double nnzFactor = cholesky ? 2.0 * cholesky_->nnzL() - double(A.rows())
+                           : ldlt   ? ldlt_->nnzFactors()
                                     : double(numeric_->lnz + numeric_->unz - A.rows());
   fill_ = nnzFactor / double(std::max<Eigen::Index>(1, A.nonZeros()));
   maxFill_ = std::max(maxFill_, fill_);
@@ -81,6 +101,7 @@ void SparseLU::factor(const SpMat& A, const std::function<std::string()>& what) 
 // Cholesky when A is symmetric with a positive diagonal and turns out positive definite.
 bool SparseLU::factorCholesky(const SpMat& A) {
   cholesky_ = nullptr;
+  if (choice_ == Choice::KluOnly) return false;
   if (!choleskyOwner_->symmetric(A) || !choleskyOwner_->factor(A)) return false;
   cholesky_ = choleskyOwner_.get();
   ++choleskyCount_;
@@ -88,12 +109,31 @@ bool SparseLU::factorCholesky(const SpMat& A) {
   return true;
 }
 
-void SparseLU::factorLU(const SpMat& A, const std::function<std::string()>& what) {
+// LDL^T when A is large, symmetric (with a zero diagonal block: positive definite ones went to
+// Cholesky) and MUMPS factors it; MUMPS is made when the first matrix qualifies.
+bool SparseLU::factorLDLT(const SpMat& A) {
+  ldlt_ = nullptr;
+  if (choice_ != Choice::Any || A.nonZeros() < kLdltFromNonzeros) return false;
+  if (!ldltOwner_) ldltOwner_ = std::make_unique<MumpsFactor>();
+  MumpsFactor& f = *ldltOwner_;
+  if (!f.analysed(A)) return false;
+  const double kluFlops = symbolic_ && samePattern(A, pattern_) ? kluFlops_ : 0.0;
+  if (std::max(f.predictedFlops(), kluFlops) < kLdltFromFlops || !f.symmetric(A) || !f.factor(A)) return false;
+  ldlt_ = &f;
+  ++ldltCount_;
+  factorFlops_ = f.flops();
+  return true;
+}
+
+// KLU; true when it factored afresh (a new pattern, or new pivots): its flop count is new.
+bool SparseLU::factorLU(const SpMat& A, const std::function<std::string()>& what) {
+  bool fresh = false;
   auto* Ap = const_cast<int64_t*>(A.outerIndexPtr());
   auto* Ai = const_cast<int64_t*>(A.innerIndexPtr());
   auto* Ax = const_cast<double*>(A.valuePtr());
   if (!symbolic_ || !samePattern(A, pattern_)) {
     release();
+    kluFlops_ = 0.0;
     std::vector<int64_t> perm = saddlePointOrdering(A);
     symbolic_ = klu_l_analyze_given(A.rows(), Ap, Ai, perm.data(), perm.data(), &common_);
     if (!symbolic_) throw NumericalError("KLU could not analyse the " + what());
@@ -120,7 +160,8 @@ void SparseLU::factorLU(const SpMat& A, const std::function<std::string()>& what
   if (!numeric_) {
     numeric_ = klu_l_factor(Ap, Ai, Ax, symbolic_, &common_);
     ok = numeric_ && common_.status == KLU_OK && conditioned(1e-16);
-    if (numeric_ && klu_l_flops(symbolic_, numeric_, &common_)) factorFlops_ = common_.flops;
+    if (numeric_ && klu_l_flops(symbolic_, numeric_, &common_)) factorFlops_ = kluFlops_ = common_.flops;
+    fresh = true;
   }
   if (!ok || common_.status == KLU_SINGULAR) {
     std::ostringstream os;
@@ -130,10 +171,12 @@ void SparseLU::factorLU(const SpMat& A, const std::function<std::string()>& what
     ++count_;
     throw NumericalError(os.str());
   }
+  return fresh;
 }
 
 double SparseLU::solveFlops() const {
   if (cholesky_) return 4.0 * cholesky_->nnzL();  // L and L^T, a multiply and an add each
+  if (ldlt_) return 2.0 * ldlt_->nnzFactors();
   return numeric_ ? 2.0 * double(numeric_->lnz + numeric_->unz) : 0.0;
 }
 
@@ -148,6 +191,7 @@ void SparseLU::solve(MatX& b, bool refine) const {
 
 void SparseLU::plainSolve(MatX& b) const {
   if (cholesky_) cholesky_->solve(b);
+  else if (ldlt_) ldlt_->solve(b);
   else klu_l_solve(symbolic_, numeric_, b.rows(), b.cols(), b.data(), &common_);
 }
 
@@ -203,6 +247,7 @@ VecX SparseLU::solveTransposed(const VecX& b) const {
   if (!factorized()) throw std::logic_error("SparseLU::solveTransposed before factor");
   MatX x = b;
   if (cholesky_) cholesky_->solve(x);
+  else if (ldlt_) ldlt_->solve(x);  // A^T = A
   else klu_l_tsolve(symbolic_, numeric_, x.rows(), x.cols(), x.data(), &common_);
   return x.col(0);
 }
@@ -214,6 +259,32 @@ VecX SparseLU::solve(const VecX& b, bool refine) const {
   return x.col(0);
 }
 
-double SparseLU::rcond() const { return cholesky_ ? cholesky_->rcond() : common_.rcond; }
+double SparseLU::rcond() const {
+  if (cholesky_) return cholesky_->rcond();
+  if (!ldlt_) return common_.rcond;
+  double norm1 = 0.0;  // |A|_1, the largest column sum
+  for (Eigen::Index j = 0; j < matrix_.outerSize(); ++j) norm1 = std::max(norm1, matrix_.col(j).cwiseAbs().sum());
+  return 1.0 / (norm1 * inverseNorm1());
+}
+
+// Hager's estimate of |A^-1|_1 (Higham, Accuracy and Stability, alg. 15.1), for a symmetric A:
+// a few solves, the estimate a lower bound that is rarely off by more than 3x.
+double SparseLU::inverseNorm1() const {
+  const Eigen::Index n = matrix_.rows();
+  MatX x = MatX::Constant(n, 1, 1.0 / double(n));
+  double estimate = 0.0;
+  for (int iteration = 0; iteration < 5; ++iteration) {
+    MatX y = x;
+    plainSolve(y);
+    estimate = y.lpNorm<1>();
+    MatX z = y.unaryExpr([](double v) { return v >= 0.0 ? 1.0 : -1.0; });
+    plainSolve(z);  // A^-T sign(y) = A^-1 sign(y)
+    Eigen::Index j;
+    if (z.col(0).cwiseAbs().maxCoeff(&j) <= z.col(0).dot(x.col(0))) break;
+    x.setZero();
+    x(j, 0) = 1.0;
+  }
+  return estimate;
+}
 
 }  // namespace flexsens

@@ -1,7 +1,14 @@
-// The Newton matrices' direct solver. A matrix that is symmetric with a positive diagonal (a
-// meshed body without constraint rows) is tried with CHOLMOD's supernodal Cholesky
-// (core/CholeskyFactor) and taken there when it is positive definite; every other matrix, and
-// one that is not, goes to KLU. The solve, its refinement and the counters are the same for both.
+// The Newton matrices' direct solver, one per matrix structure (bench/linear):
+// - symmetric with a positive diagonal (a meshed body without constraint rows): CHOLMOD's
+//   supernodal Cholesky (core/CholeskyFactor), when it is positive definite;
+// - symmetric with constraint rows and large (a meshed body held by support, symmetry or attach
+//   rows, or joined to other bodies: MUMPS predicts at least kLdltFromFlops): MUMPS' sparse
+//   LDL^T (core/MumpsFactor);
+// - every other matrix (the multibody saddle-point matrices, unsymmetric tangents) and one the
+//   others refuse (indefinite, singular): KLU.
+// The solve, its refinement against A and the counters are the same for all three.
+// FLEXSENS_LINEAR_SOLVER=klu (KLU for every matrix) or =cholesky (no LDL^T) in the environment
+// restricts the choice, to compare the paths (tests, bench/linear).
 //
 // Sparse LU through SuiteSparse KLU (64-bit index routines) in the saddle-point ordering
 // (core/SaddlePointOrdering: multipliers after their coordinates) with a small pivot tolerance,
@@ -18,6 +25,7 @@
 #include <string>
 
 #include "core/CholeskyFactor.hpp"
+#include "core/MumpsFactor.hpp"
 #include "core/Types.hpp"
 
 namespace flexsens {
@@ -43,9 +51,10 @@ class SparseLU {
   void solve(MatX& b, bool refine = true) const;
   VecX solve(const VecX& b, bool refine = true) const;
   /// Solves A^T x = b with the same factors, plainly (no refinement): KLU's transposed solve, or
-  /// the Cholesky factor's own solve (A symmetric). For estimates such as A's condition number.
+  /// the Cholesky or LDL^T factor's own solve (A symmetric). For estimates such as A's condition number.
   VecX solveTransposed(const VecX& b) const;
-  /// Reciprocal condition estimate of the last factorization (KLU's rcond, cheap).
+  /// Reciprocal condition estimate of the last factorization (KLU's rcond, cheap; CHOLMOD's
+  /// (min/max diag L)^2; after LDL^T, 1 / (|A|_1 |A^-1|_1) with Hager's estimate, a few solves).
   double rcond() const;
   long factorizations() const { return count_; }
   /// nnz(L + U) / nnz(A) of the last factorization (1 + fill per entry of A; the diagonal once).
@@ -64,18 +73,27 @@ class SparseLU {
   double factorFlops() const { return factorFlops_; }
   double solveFlops() const;
   /// A factorization is held (false before the first and after one that failed).
-  bool factorized() const { return cholesky_ ? cholesky_->factorized() : numeric_ != nullptr; }
-  /// Factorizations done by Cholesky (the rest, factorizations() - this, by KLU).
+  bool factorized() const {
+    return cholesky_ ? cholesky_->factorized() : ldlt_ ? ldlt_->factorized() : numeric_ != nullptr;
+  }
+  /// Factorizations done by Cholesky and by LDL^T (the rest by KLU).
   long choleskyFactorizations() const { return choleskyCount_; }
+  long ldltFactorizations() const { return ldltCount_; }
 
  private:
   void release();
   bool factorCholesky(const SpMat& A);
-  void factorLU(const SpMat& A, const std::function<std::string()>& what);
+  bool factorLDLT(const SpMat& A);
+  double inverseNorm1() const;
+  bool factorLU(const SpMat& A, const std::function<std::string()>& what);
   void refine(MatX& b) const;
   std::unique_ptr<CholeskyFactor> choleskyOwner_ = std::make_unique<CholeskyFactor>();
   CholeskyFactor* cholesky_ = nullptr;  ///< choleskyOwner_ when the last factorization is its
   long choleskyCount_ = 0;
+  std::unique_ptr<MumpsFactor> ldltOwner_;  ///< made when a matrix first qualifies
+  MumpsFactor* ldlt_ = nullptr;             ///< ldltOwner_ when the last factorization is its
+  long ldltCount_ = 0;
+  enum class Choice { Any, NoLdlt, KluOnly } choice_ = Choice::Any;  ///< FLEXSENS_LINEAR_SOLVER
   mutable klu_l_common common_;
   klu_l_symbolic* symbolic_ = nullptr;
   klu_l_numeric* numeric_ = nullptr;
@@ -87,6 +105,7 @@ class SparseLU {
   mutable RowMajor xRows_, rRows_, scaleRows_;  ///< refine()'s, row-major
   long count_ = 0;
   double fill_ = 0.0, maxFill_ = 0.0, seconds_ = 0.0, factorFlops_ = 0.0;
+  double kluFlops_ = 0.0;  ///< KLU's flops for the pattern it analysed (0: not factored yet)
 };
 
 }  // namespace flexsens

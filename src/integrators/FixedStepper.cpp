@@ -121,6 +121,7 @@ void FixedStepper::finishStep(State&& next) {
   st_.factorizations = newton_.lu().factorizations();
   st_.luFill = newton_.lu().maxFill();
   st_.choleskyFactorizations = newton_.lu().choleskyFactorizations();
+  st_.ldltFactorizations = newton_.lu().ldltFactorizations();
   st_.factorizationSeconds = newton_.lu().factorSeconds();
 }
 

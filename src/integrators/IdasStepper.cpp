@@ -472,6 +472,7 @@ void IdasStepper::Impl::readCounters() {
   st.factorizations = counter(IDAGetNumLinSolvSetups, "IDAGetNumLinSolvSetups");
   st.luFill = lu.maxFill();
   st.choleskyFactorizations = lu.choleskyFactorizations();
+  st.ldltFactorizations = lu.ldltFactorizations();
   st.factorizationSeconds = lu.factorSeconds();
   st.residualEvaluations = counter(IDAGetNumResEvals, "IDAGetNumResEvals");
   st.jacobianEvaluations = counter(IDAGetNumJacEvals, "IDAGetNumJacEvals");

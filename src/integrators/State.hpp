@@ -42,6 +42,7 @@ struct IntegratorStats {
   double maxConstraintViolation = 0.0;  ///< max over frames of |Phi|_inf
   double luFill = 0.0;                  ///< largest nnz(L + U) / nnz(A) of the step matrices
   long choleskyFactorizations = 0;      ///< of the factorizations, those by Cholesky (core/SparseLU)
+  long ldltFactorizations = 0;          ///< ... and those by MUMPS' LDL^T (core/SparseLU)
   double factorizationSeconds = 0.0;    ///< wall time in numeric factorizations [s]
 };
 
