@@ -23,8 +23,9 @@ under `perf record -F 499 -g` for its top five functions.
 
     bench/continuum/run.py [--flexsens build/flexsens] [--quick] [--models solid,panel,cantilever]
         [--params 0,1,10] [--newton modified,full] [--sizes H,...] [--no-perf] [--time-limit S] [--out DIR]
+        [--report-only]
 
-It writes results.md, results.csv, cost.png (and profile.json) here; a run of some models,
+It writes results.md, results.csv, cost.png and meta.json (commands, commits, the profile) here; a run of some models,
 sizes, parameter counts or Newton variants keeps the other rows of the existing results.csv.
 --quick runs the two smallest sizes of each model into a fresh temporary directory.
 Needs /usr/bin/python3 (python3-matplotlib), /usr/bin/time and perf.
@@ -100,7 +101,8 @@ MODELS = {
                        setup="`flexsens static` of bench/solid_cantilever_bench.py's 3D bar (L = 1 m, 0.1 m square, "
                              "E = 2.1e11 Pa, nu = 0, P2 tetrahedra at element size h, root face fixed, %g N down on "
                              "the tip face) under its weight (g = %g m/s^2) and a 1 N axial pull at the tip centre "
-                             "(`tip_load`, a constant function of value 1), one load step" % (CANT_P, CANT_G),
+                             "(`tip_load`, a constant function of value 1), one load step, full Newton (`flexsens static` has no "
+                             "modified Newton)" % (CANT_P, CANT_G),
                        params=CANT_PARAMS),
 }
 
@@ -182,7 +184,8 @@ def counters(s, kind):
     st = s.get("statistics", {})
     r = dict(status=s.get("status"), n=s["n"], wall_s=s["wall_time_s"], iterations=st.get("newton_iterations"),
              steps=st.get("steps" if kind == "run" else "load_steps"), factorizations=st.get("factorizations"),
-             sens_factorizations=st.get("sensitivity_factorizations"), fill=st.get("lu_fill"),
+             sens_factorizations=st.get("sensitivity_factorizations"), sens_iterations=st.get("sensitivity_iterations"),
+             fill=st.get("lu_fill"),
              fact_s=st.get("factorization_seconds"))
     if kind == "static":
         r["tip_deflection_m"] = -float(s["final"]["tip_y"])  # tipmid rests on the axis, y = 0
@@ -192,7 +195,7 @@ def counters(s, kind):
 # Derived figures, the CSV (read back when only a part is rerun) and the report.
 
 CSV_COLS = ["model", "size", "newton", "params", "status", "n", "steps", "iterations", "factorizations",
-            "sens_factorizations", "fact_s", "fact_share", "fill", "wall_s", "process_wall_s", "us_per_coord",
+            "sens_factorizations", "sens_iterations", "fact_s", "fact_share", "fill", "wall_s", "process_wall_s", "us_per_coord",
             "cost_unit", "overhead", "rss_mb", "rss_kb_per_coord", "others_cores", "tip_deflection_m",
             "timoshenko_m", "rel_diff", "error"]
 TEXT_COLS = {"model", "newton", "status", "cost_unit", "error"}
@@ -240,7 +243,7 @@ def read_csv(path):
         r = {}
         for c, v in rec.items():
             r[c] = v if c in TEXT_COLS else (None if v == "" else float(v))
-        for c in ("params", "n", "steps", "iterations", "factorizations", "sens_factorizations"):
+        for c in ("params", "n", "steps", "iterations", "factorizations", "sens_factorizations", "sens_iterations"):
             r[c] = None if r[c] is None else int(r[c])
         rows.append(r)
     return rows
@@ -317,8 +320,8 @@ def summary_lines(mr, kind):
 
 def table(mr, kind):
     if kind == "run":
-        md = ["| h [m] | Newton | par. | n | Newton it. | fact. (sens.) | fact. share | fill | wall [s] | us/step/coord |"
-              " x plain | RSS [MB] | kB/coord | others [cores] | status |", "|---" * 15 + "|"]
+        md = ["| h [m] | Newton | par. | n | Newton it. | sens. solves | fact. (sens.) | fact. share | fill | wall [s] |"
+              " us/step/coord | x plain | RSS [MB] | kB/coord | others [cores] | status |", "|---" * 16 + "|"]
     else:
         md = ["| h [m] | par. | n | load steps | Newton it. | fact. (sens.) | fact. share | fill | wall [s] | us/it./coord |"
               " x plain | RSS [MB] | kB/coord | tip deflection [m] | vs Timoshenko | others [cores] | status |",
@@ -328,13 +331,14 @@ def table(mr, kind):
             cells = [fmt(r["size"], "%g")] + ([r["newton"]] if kind == "run" else []) + [str(r["params"])]
             md.append("| " + " | ".join(cells) + " | %s: `%s` |" % (r["status"], r["error"].replace("|", "/")))
             continue
-        common = [fmt(r["n"], "%d")] + ([] if kind == "run" else [fmt(r["steps"], "%d")]) + [
-            fmt(r["iterations"], "%d"), "%d (%d)" % (r["factorizations"], r["sens_factorizations"] or 0),
-            fmt(r["fact_share"], "%.2f"), fmt(r["fill"], "%.2f"), fmt(r["wall_s"], "%.3g"), fmt(r["us_per_coord"], "%.2f"),
-            fmt(r["overhead"], "%.2f"), fmt(r["rss_mb"], "%.0f"), fmt(r["rss_kb_per_coord"], "%.1f")]
+        it = [fmt(r["iterations"], "%d"), fmt(r["sens_iterations"], "%d")] if kind == "run" else \
+            [fmt(r["steps"], "%d"), fmt(r["iterations"], "%d")]
+        work = ["%d (%d)" % (r["factorizations"], r["sens_factorizations"] or 0), fmt(r["fact_share"], "%.2f"),
+                fmt(r["fill"], "%.2f"), fmt(r["wall_s"], "%.3g"), fmt(r["us_per_coord"], "%.2f"), fmt(r["overhead"], "%.2f"),
+                fmt(r["rss_mb"], "%.0f"), fmt(r["rss_kb_per_coord"], "%.1f")]
         extra = [] if kind == "run" else ["%.6e" % r["tip_deflection_m"], "%+.1e" % r["rel_diff"]]
-        cells = [fmt(r["size"], "%g")] + ([r["newton"]] if kind == "run" else []) + [str(r["params"])] + common + extra + [
-            fmt(r["others_cores"], "%.2f"), r["status"]]
+        cells = [fmt(r["size"], "%g")] + ([r["newton"]] if kind == "run" else []) + [str(r["params"]), fmt(r["n"], "%d")] + \
+            it + work + extra + [fmt(r["others_cores"], "%.2f"), r["status"]]
         md.append("| " + " | ".join(cells) + " |")
     return md
 
@@ -370,17 +374,18 @@ def profile_lines(profile):
     return md + [""]
 
 
-def write_md(outdir, rows, profile, args, done):
+def write_md(outdir, rows, meta, done):
     md = ["# Meshed bodies refined to n ~ 100k", ""]
     if not done:
         md += ["**Partial: written while the benchmark was still running.**", ""]
-    md += ["Written by `bench/continuum/run.py%s` (flexsens %s, %s UTC) on a %d-core machine. %s"
-           % (" --quick" if args.quick else "", args.commit, time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
-              os.cpu_count(), machine_line(rows)), "",
+    runs = "; ".join("`%s` (flexsens %s, %s - %s UTC)" % (r["command"], r["commit"], r["started"], r["finished"] or "...")
+                     for r in meta["runs"])
+    md += ["Written by %s, on a %d-core machine. %s" % (runs, os.cpu_count(), machine_line(rows)), "",
            "Cost = `wall_time_s` of summary.json (the time integration or the static solve, without reading the scene "
            "and meshing) per step and coordinate (dynamics) or per Newton iteration and coordinate (statics: its one "
            "load step takes 2-3 iterations and, with parameters, one more factorization for the sensitivities); "
-           "fact. = factorizations, in brackets those the sensitivity solves took; fact. share = "
+           "sens. solves = `sensitivity_iterations` (linear solves of the sensitivity systems with a factorization, "
+           "refinement and GMRES steps included); fact. = factorizations, in brackets those the sensitivity solves took; fact. share = "
            "`factorization_seconds` / `wall_time_s`; fill = `lu_fill` (nnz of the factor over the matrix's); x plain = "
            "cost / cost of the same size and Newton variant without parameters; RSS = peak resident set of the "
            "process (meshing included); others = cores the rest of the machine used during the row.", "",
@@ -391,7 +396,7 @@ def write_md(outdir, rows, profile, args, done):
             continue
         md += ["## %s" % spec["title"], "", "Setup: %s. Parameters: %s." % (spec["setup"], params_text(spec)), ""]
         md += table(mr, spec["kind"]) + [""] + summary_lines(mr, spec["kind"]) + [""]
-    md += profile_lines(profile)
+    md += profile_lines(meta.get("profile"))
     open(os.path.join(outdir, "results.md"), "w").write("\n".join(md) + "\n")
 
 
@@ -473,6 +478,7 @@ def parse_args():
     ap.add_argument("--no-perf", action="store_true", help="no perf profile of the largest solid run")
     ap.add_argument("--time-limit", type=float, default=3600.0, help="per run [s]")
     ap.add_argument("--out", help="output directory (default bench/continuum; --quick: a new temporary one)")
+    ap.add_argument("--report-only", action="store_true", help="no runs: results.md and cost.png again from results.csv")
     a = ap.parse_args()
     a.flexsens = os.path.abspath(a.flexsens)
     a.models = [m for m in a.models.split(",") if m]
@@ -492,12 +498,7 @@ def parse_args():
     return a
 
 
-def main():
-    args = parse_args()
-    os.makedirs(args.out, exist_ok=True)
-    csv_path, prof_path = os.path.join(args.out, "results.csv"), os.path.join(args.out, "profile.json")
-    rows = read_csv(csv_path)  # the rows this run does not redo stay
-    profile = json.load(open(prof_path)) if os.path.exists(prof_path) else None
+def run_all(args, rows, csv_path, meta):
     wd = tempfile.mkdtemp(prefix="continuum_runs_")
     small_n = {}  # (model, size) -> n of the modified run, for the full Newton cap
     for model, size, newton, p in plan(args):
@@ -515,17 +516,31 @@ def main():
             model, size, newton, p, r["status"], r.get("n"), fmt(r.get("wall_s")), r["rss_mb"], r["others_cores"],
             r["error"][:120]), file=sys.stderr, flush=True)
         write_csv(csv_path, rows)
-        write_md(args.out, rows, profile, args, done=False)
+        write_md(args.out, rows, meta, done=False)
     if not args.no_perf and "solid" in args.models and 10 in args.params:
         asked = [r for r in rows if not args.sizes or r["size"] in args.sizes]  # the largest of the sizes asked for
-        profile = perf_profile(args.flexsens, asked, args.time_limit, wd) or profile
-        if profile:
-            json.dump(profile, open(prof_path, "w"), indent=1)
+        meta["profile"] = perf_profile(args.flexsens, asked, args.time_limit, wd) or meta.get("profile")
+    shutil.rmtree(wd, ignore_errors=True)
+    return rows
+
+
+def main():
+    args = parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    csv_path, meta_path = os.path.join(args.out, "results.csv"), os.path.join(args.out, "meta.json")
+    rows = read_csv(csv_path)  # the rows this run does not redo stay
+    meta = json.load(open(meta_path)) if os.path.exists(meta_path) and rows else {"runs": []}
+    if not args.report_only:
+        started = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
+        meta["runs"].append(dict(command=" ".join(["bench/continuum/run.py"] + sys.argv[1:]), commit=args.commit,
+                                 started=started, finished=None))
+        rows = run_all(args, rows, csv_path, meta)
+        meta["runs"][-1]["finished"] = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
+        json.dump(meta, open(meta_path, "w"), indent=1)
     derive(rows)
     write_csv(csv_path, rows)
-    write_md(args.out, rows, profile, args, done=True)
+    write_md(args.out, rows, meta, done=True)
     plot(args.out, rows)
-    shutil.rmtree(wd, ignore_errors=True)
     print("continuum bench: %s/results.md, results.csv, cost.png" % args.out)
 
 
