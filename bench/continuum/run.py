@@ -291,11 +291,11 @@ def summary_lines(mr, kind):
         for p in (1, 10):
             out.append(ratio_list([r for r in mr if r["newton"] == newton and r["params"] == p],
                                   "%s Newton, cost(%d par.) / cost(0)" % (newton, p), lambda r: r["overhead"]))
-    if kind == "run":
-        out.append(ratio_list([r for r in mr if r["newton"] == "full" and r["params"] == 0],
-                              "full / modified Newton, 0 par.",
-                              lambda r: r["wall_s"] / by[(r["size"], "modified", 0)]["wall_s"]
-                              if (r["size"], "modified", 0) in by else None))
+    for p in (PARAM_COUNTS if kind == "run" else ()):
+        out.append(ratio_list([r for r in mr if r["newton"] == "full" and r["params"] == p],
+                              "cost of full / modified Newton, %d par." % p,
+                              lambda r: r["wall_s"] / by[(r["size"], "modified", r["params"])]["wall_s"]
+                              if (r["size"], "modified", r["params"]) in by else None))
     main = [r for r in mr if ok(r) and r["newton"] == ("modified" if kind == "run" else "full")]
     for p in (0, 10):
         s = sorted((r for r in main if r["params"] == p and r["fact_share"] is not None), key=lambda r: r["n"])
@@ -363,12 +363,15 @@ def profile_lines(profile):
     if not profile:
         return []
     md = ["## Profile", "", "`perf record -F 499 -g` of the %s at h = %g m (n = %s), modified Newton, %d parameters (status %s, "
-          "wall %s s); `perf report --no-children --sort symbol`, top 5:" % (
+          "wall %s s, the whole process); `perf report --no-children --sort dso,symbol` (the library names the "
+          "addresses it has no symbol for), top 5:" % (
               MODELS[profile["model"]]["title"], profile["size"], profile.get("n"), profile["params"], profile["status"],
               fmt(profile.get("wall_s"))), ""]
     if profile["funcs"]:
         md += ["| self % | function |", "|---|---|"] + ["| %.1f | `%s` |" % (pc, name[:110].replace("|", "/"))
                                                         for pc, name in profile["funcs"]]
+        if profile.get("libraries"):
+            md += ["", "By library (`--sort dso`): " + ", ".join("%s %.1f%%" % (name, pc) for pc, name in profile["libraries"])]
     else:
         md += ["(no profile: %s)" % profile.get("error", "perf wrote no samples")]
     return md + [""]
@@ -432,6 +435,19 @@ def plot(outdir, rows):
 # ---------------------------------------------------------------------------------------------
 
 
+def perf_top(data, sort, pattern, top):
+    """The `top` largest self shares of `perf report --no-children --sort <sort>` (-g none: the
+    same percentages without building the call graphs) as (percent, 'dso: symbol' or 'dso')."""
+    rep = subprocess.run(["perf", "report", "-i", data, "--stdio", "--no-children", "--sort"] + sort + ["-g", "none"],
+                         capture_output=True, text=True)
+    found = []
+    for line in rep.stdout.splitlines():
+        m = re.match(pattern, line)
+        if m:
+            found.append((float(m.group(1)), ": ".join(m.groups()[1:])))
+    return sorted(found, key=lambda f: -f[0])[:top]
+
+
 def perf_profile(exe, rows, limit, wd):
     done = [r for r in rows if r["model"] == "solid" and r["newton"] == "modified" and r["params"] == 10 and ok(r)]
     if not done:
@@ -442,13 +458,8 @@ def perf_profile(exe, rows, limit, wd):
     prof = dict(model="solid", size=size, params=10, status=r["status"], n=r.get("n"), wall_s=r.get("wall_s"), funcs=[],
                 error=r["error"])
     if os.path.exists(data):
-        rep = subprocess.run(["perf", "report", "-i", data, "--stdio", "--no-children", "--sort", "symbol", "-g", "none"],
-                             capture_output=True, text=True)
-        for line in rep.stdout.splitlines():
-            m = re.match(r"^\s+(\d+(?:\.\d+)?)%\s+\[(.)\]\s+(\S.*?)(?:\s+-)*\s*$", line)
-            if m:
-                prof["funcs"].append((float(m.group(1)), ("[kernel] " if m.group(2) == "k" else "") + m.group(3)))
-        prof["funcs"] = sorted(prof["funcs"], key=lambda f: -f[0])[:5]
+        prof["funcs"] = perf_top(data, ["dso,symbol"], r"^\s+(\d+(?:\.\d+)?)%\s+(\S+)\s+\[.\]\s+(\S.*?)(?:\s+-)*\s*$", 5)
+        prof["libraries"] = perf_top(data, ["dso"], r"^\s+(\d+(?:\.\d+)?)%\s+(\S+)(?:\s+-)*\s*$", 4)
     return prof
 
 
