@@ -359,7 +359,7 @@ def params_text(spec):
     return "1: %s; 10: %s" % (p[0][0], ", ".join("%s (%s.%s)" % (n, of, prop) for n, of, prop in p))
 
 
-def profile_lines(profile):
+def profile_lines(profile, exe):
     if not profile:
         return []
     md = ["## Profile", "", "`perf record -F 499 -g` of the %s at h = %g m (n = %s), modified Newton, %d parameters (status %s, "
@@ -368,7 +368,7 @@ def profile_lines(profile):
               MODELS[profile["model"]]["title"], profile["size"], profile.get("n"), profile["params"], profile["status"],
               fmt(profile.get("wall_s"))), ""]
     if profile["funcs"]:
-        md += ["| self % | function |", "|---|---|"] + ["| %.1f | `%s` |" % (pc, name[:110].replace("|", "/"))
+        md += ["| self % | function |", "|---|---|"] + ["| %.1f | `%s` |" % (pc, annotate(name, exe).replace("|", "/"))
                                                         for pc, name in profile["funcs"]]
         if profile.get("libraries"):
             md += ["", "By library (`--sort dso`): " + ", ".join("%s %.1f%%" % (name, pc) for pc, name in profile["libraries"])]
@@ -377,7 +377,7 @@ def profile_lines(profile):
     return md + [""]
 
 
-def write_md(outdir, rows, meta, done):
+def write_md(outdir, rows, meta, done, exe):
     md = ["# Meshed bodies refined to n ~ 100k", ""]
     if not done:
         md += ["**Partial: written while the benchmark was still running.**", ""]
@@ -399,7 +399,7 @@ def write_md(outdir, rows, meta, done):
             continue
         md += ["## %s" % spec["title"], "", "Setup: %s. Parameters: %s." % (spec["setup"], params_text(spec)), ""]
         md += table(mr, spec["kind"]) + [""] + summary_lines(mr, spec["kind"]) + [""]
-    md += profile_lines(meta.get("profile"))
+    md += profile_lines(meta.get("profile"), exe)
     open(os.path.join(outdir, "results.md"), "w").write("\n".join(md) + "\n")
 
 
@@ -412,7 +412,7 @@ def plot(outdir, rows):
     styles = {("modified", 0): "-o", ("modified", 10): "--s", ("full", 0): ":^", ("full", 10): "-.v"}
     for model, spec in MODELS.items():
         for (newton, p), style in styles.items():
-            if (spec["kind"] == "static") != (newton == "full"):
+            if spec["kind"] == "static" and newton != "full":
                 continue
             s = sorted((r for r in rows if r["model"] == model and r["newton"] == newton and r["params"] == p and ok(r)),
                        key=lambda r: r["n"])
@@ -433,6 +433,30 @@ def plot(outdir, rows):
     plt.close(fig)
 
 # ---------------------------------------------------------------------------------------------
+
+
+def exported_neighbours(dso, address, exe):
+    """'between A and B': the exported symbols (nm -D) of the library `dso` (as ldd finds it for
+    exe) around an address perf has no symbol for (a static function of the library)."""
+    ldd = subprocess.run(["ldd", exe], capture_output=True, text=True).stdout
+    paths = [os.path.realpath(p) for p in re.findall(r"=> (\S+)", ldd)]
+    path = next((p for p in paths if os.path.basename(p) == dso), None)
+    if not path:
+        return ""
+    nm = subprocess.run(["nm", "-D", "--defined-only", path], capture_output=True, text=True).stdout
+    syms = sorted((int(f[0], 16), f[2]) for f in (l.split() for l in nm.splitlines()) if len(f) == 3 and f[1] in "Tt")
+    below = [s for s in syms if s[0] <= address]
+    above = [s for s in syms if s[0] > address]
+    return "between %s and %s" % (below[-1][1] if below else "the start", above[0][1] if above else "the end")
+
+
+def annotate(name, exe):
+    """'dso: 0x...' -> 'dso: 0x... (between A and B)'."""
+    m = re.match(r"^(\S+): 0x([0-9a-f]+)$", name)
+    if not m:
+        return name
+    where = exported_neighbours(m.group(1), int(m.group(2), 16), exe)
+    return "%s (%s)" % (name, where) if where else name
 
 
 def perf_top(data, sort, pattern, top):
@@ -504,8 +528,12 @@ def parse_args():
     if not os.access(a.flexsens, os.X_OK):
         sys.exit("continuum bench: no executable at %s (--flexsens)" % a.flexsens)
     a.out = a.out or (tempfile.mkdtemp(prefix="continuum_quick_") if a.quick else HERE)
-    git = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True, text=True)
-    a.commit = git.stdout.strip() or "(no git)"
+    git = subprocess.run(["git", "-C", ROOT, "describe", "--always"], capture_output=True, text=True)
+    # changed files besides this benchmark's own outputs make the binary's source uncertain
+    changed = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--", ".",
+                              ":!bench/continuum/results.*", ":!bench/continuum/cost.png", ":!bench/continuum/meta.json"],
+                             capture_output=True, text=True)
+    a.commit = (git.stdout.strip() or "(no git)") + ("-dirty" if changed.stdout.strip() else "")
     return a
 
 
@@ -527,7 +555,7 @@ def run_all(args, rows, csv_path, meta):
             model, size, newton, p, r["status"], r.get("n"), fmt(r.get("wall_s")), r["rss_mb"], r["others_cores"],
             r["error"][:120]), file=sys.stderr, flush=True)
         write_csv(csv_path, rows)
-        write_md(args.out, rows, meta, done=False)
+        write_md(args.out, rows, meta, done=False, exe=args.flexsens)
     if not args.no_perf and "solid" in args.models and 10 in args.params:
         asked = [r for r in rows if not args.sizes or r["size"] in args.sizes]  # the largest of the sizes asked for
         meta["profile"] = perf_profile(args.flexsens, asked, args.time_limit, wd) or meta.get("profile")
@@ -550,7 +578,7 @@ def main():
         json.dump(meta, open(meta_path, "w"), indent=1)
     derive(rows)
     write_csv(csv_path, rows)
-    write_md(args.out, rows, meta, done=True)
+    write_md(args.out, rows, meta, done=True, exe=args.flexsens)
     plot(args.out, rows)
     print("continuum bench: %s/results.md, results.csv, cost.png" % args.out)
 
