@@ -39,7 +39,8 @@ def run(exe, dim, size, order, P, wd):
     path = os.path.join(wd, tag + ".yaml")
     open(path, "w").write(scene(dim, size, order, P))
     out = os.path.join(wd, tag)
-    r = subprocess.run([exe, "static", path, "--out", out], capture_output=True, text=True)
+    # the meshes stay in tests/scenes/solid: a scene reads outside its folder only where allowed
+    r = subprocess.run([exe, "static", path, "--out", out, "--allow-path", GEO], capture_output=True, text=True)
     if r.returncode != 0:
         print(r.stderr, file=sys.stderr)
         return None, None

@@ -250,3 +250,25 @@ TEST(StaticCommand, InterruptStopsAfterTheLoadStepWithAnInterruptedSummary) {
   EXPECT_EQ(all.str().find("\"complete\""), std::string::npos);
   fs::remove_all(dir);
 }
+
+// summary.json counts the direct solver's work: full Newton factorizes once per iteration and
+// the sensitivities once per load step (the cantilever has two parameters), and the counts,
+// the fill and the time agree with what the solve returned.
+TEST(StaticCommand, SummaryCountsFactorizationsOfNewtonAndSensitivities) {
+  const fs::path dir = fs::temp_directory_path() / ("flexsens_static_fact_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const Scene sc = readSceneText(cantileverScene(8, EI() / (kL * kL)), "cantilever.yaml");
+  const StaticResult r = runStaticScene(sc, dir.string(), 10);
+  EXPECT_EQ(r.loadSteps, 10);
+  EXPECT_EQ(r.newtonFactor.factorizations, r.newtonIterations);
+  EXPECT_EQ(r.sensitivityFactor.factorizations, 10);
+  EXPECT_GE(r.newtonFactor.maxFill, 1.0);
+  EXPECT_GT(r.newtonFactor.seconds + r.sensitivityFactor.seconds, 0.0);
+  std::stringstream all;
+  all << std::ifstream(dir / "summary.json").rdbuf();
+  const std::string expected = "\"factorizations\": " + std::to_string(r.newtonIterations + 10) +
+                               ", \"sensitivity_factorizations\": 10, \"lu_fill\": ";
+  EXPECT_NE(all.str().find(expected), std::string::npos) << all.str();
+  EXPECT_NE(all.str().find("\"factorization_seconds\": "), std::string::npos);
+  fs::remove_all(dir);
+}

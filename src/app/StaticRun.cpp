@@ -30,9 +30,13 @@ std::string staticSummaryJson(const Scene& sc, const StaticResult& r, const std:
   for (size_t k = 0; k < m.parameters.size(); ++k)
     js << (k ? ", " : "") << "{\"name\": " << jsonString(m.parameters[k].name) << ", \"bound_to\": "
        << jsonString(m.parameters[k].boundTo) << ", \"nominal\": " << jsonNumber(m.parameters[k].nominal) << "}";
+  FactorizationCounters all = r.newtonFactor;
+  all.add(r.sensitivityFactor);
   js << "],\n  \"statistics\": {\"load_steps\": " << r.loadSteps << ", \"newton_iterations\": " << r.newtonIterations
      << ", \"residual_inf_N\": " << jsonNumber(r.residualNorm) << ", \"constraint_inf\": " << jsonNumber(r.constraintNorm)
-     << "},\n  \"final\": {";
+     << ", \"factorizations\": " << all.factorizations << ", \"sensitivity_factorizations\": "
+     << r.sensitivityFactor.factorizations << ", \"lu_fill\": " << jsonNumber(all.maxFill)
+     << ", \"factorization_seconds\": " << jsonNumber(all.seconds) << "},\n  \"final\": {";
   for (size_t i = 0; i < w.columns().size() && i < w.lastRow().size(); ++i)
     js << (i ? ", " : "") << jsonString(w.columns()[i]) << ": " << jsonNumber(w.lastRow()[i]);
   js << "},\n  \"wall_time_s\": " << jsonNumber(r.wallSeconds) << ",\n  \"files\": [";
@@ -106,6 +110,7 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
   set.onStep = [&](int, double lf, const VecX& q, const VecX& lambda) {
     if (p.size()) {
       const StaticSensitivity d = staticSensitivities(as, q, lambda, p);
+      res.sensitivityFactor.add(d.factor);
       frame(lf, q, lambda, &d);
     } else {
       frame(lf, q, lambda, nullptr);
@@ -118,8 +123,13 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
     if (sc.statics.linear) {
       const VecX q0 = m.initialPositions();
       const VecX q = solveLinearStatic(as, p, q0, set.time, &rep);
-      const StaticSensitivity d = linearStaticSensitivities(as, q0, q, rep.lambda, p);
-      frame(1.0, q, rep.lambda, p.size() ? &d : nullptr);
+      if (p.size()) {  // without parameters no second factorization
+        const StaticSensitivity d = linearStaticSensitivities(as, q0, q, rep.lambda, p);
+        res.sensitivityFactor.add(d.factor);
+        frame(1.0, q, rep.lambda, &d);
+      } else {
+        frame(1.0, q, rep.lambda, nullptr);
+      }
     } else {
       solveStatic(as, p, m.initialPositions(), set, &rep);
     }
@@ -136,6 +146,7 @@ StaticResult runStaticScene(const Scene& sc, const std::string& outDir, int load
     throw;
   }
   res.linear = sc.statics.linear;
+  res.newtonFactor = rep.factor;
   res.loadSteps = rep.steps;
   res.newtonIterations = rep.iterations;
   res.residualNorm = rep.residualNorm;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/Run.hpp"
+#include "integrators/Static.hpp"
 
 namespace flexsens {
 
@@ -16,6 +17,8 @@ struct StaticResult {
   double residualNorm = 0.0;    ///< |Q - Phi_q^T lambda|_inf at the end [N]
   double constraintNorm = 0.0;  ///< |Phi|_inf at the end
   double wallSeconds = 0.0;
+  FactorizationCounters newtonFactor;       ///< the Newton matrices' (or the linear system's)
+  FactorizationCounters sensitivityFactor;  ///< the sensitivity solves' (one per load step with parameters)
   bool linear = false;          ///< static.linear: one linear solve (residuals of that system)
 };
 

@@ -10,8 +10,22 @@
 
 namespace flexsens {
 
+void FactorizationCounters::add(const FactorizationCounters& o) {
+  factorizations += o.factorizations;
+  seconds += o.seconds;
+  maxFill = std::max(maxFill, o.maxFill);
+}
+
 namespace {
 double infNorm(const VecX& x) { return x.size() ? x.lpNorm<Eigen::Infinity>() : 0.0; }
+
+FactorizationCounters countersOf(const SparseLU& lu) {
+  FactorizationCounters c;
+  c.factorizations = lu.factorizations();
+  c.seconds = lu.factorSeconds();
+  c.maxFill = lu.maxFill();
+  return c;
+}
 
 /// The static Newton matrix R_x = [-dQ/dq + sum lambda_i Hess(Phi_i), Phi_q^T; Phi_q, 0].
 SpMat staticMatrix(SparseAccumulator& acc, const Assembler& as, const VecX& q, const VecX& lambda, const VecX& p) {
@@ -52,6 +66,7 @@ VecX solveLinearStatic(const Assembler& as, const VecX& p, const VecX& q0, doubl
   rep.residualNorm = infNorm(res.head(n));
   rep.constraintNorm = m ? infNorm(res.tail(m)) : 0.0;
   rep.lambda = x.tail(m);
+  rep.factor = countersOf(lu);
   if (report) *report = std::move(rep);
   return q0 + x.head(n);
 }
@@ -92,6 +107,7 @@ StaticSensitivity linearStaticSensitivities(const Assembler& as, const VecX& q0,
     out.qp.col(k) = x.head(n);
     if (m) out.lambdap.col(k) = x.tail(m);
   }
+  out.factor = countersOf(lu);
   return out;
 }
 
@@ -120,6 +136,7 @@ class StaticNewton {
   bool solve(VecX& q, VecX& lambda, const VecX& pk, bool lineSearch, const std::string& where);
   int iterations() const { return iterations_; }
   const UpdateCheck& last() const { return check_; }
+  const SparseLU& lu() const { return lu_; }
   /// [Phi_q^T lambda - Q; Phi] at (q, lambda, pk), with the force scale max(|Q|, |Phi_q^T lambda|).
   const VecX& residual(const VecX& q, const VecX& lambda, const VecX& pk);
   double forceNorm() const { return infNorm(r_.head(n_)); }
@@ -306,6 +323,7 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
   rep.residualNorm = newton.forceNorm();
   rep.constraintNorm = newton.constraintNorm();
   rep.lambda = lambda;
+  rep.factor = countersOf(newton.lu());
   if (report) *report = std::move(rep);
   return q;
 }
@@ -329,6 +347,7 @@ StaticSensitivity staticSensitivities(const Assembler& as, const VecX& q, const 
     out.qp.col(k) = x.head(n);
     if (m) out.lambdap.col(k) = x.tail(m);
   }
+  out.factor = countersOf(lu);
   return out;
 }
 

@@ -39,6 +39,14 @@ struct StaticSettings {
   std::function<void(int step, double loadFactor, const VecX& q, const VecX& lambda)> onStep;
 };
 
+/// The direct solver's work in a static solve (summary.json's statistics).
+struct FactorizationCounters {
+  long factorizations = 0;
+  double seconds = 0.0;  ///< wall time in numeric factorizations [s]
+  double maxFill = 0.0;  ///< largest nnz(L + U) / nnz(A) (a Cholesky or LDL^T factor: 2 nnz(L) - n)
+  void add(const FactorizationCounters& o);
+};
+
 struct StaticReport {
   int steps = 0;                       ///< load steps taken
   int iterations = 0;                  ///< Newton iterations, all steps
@@ -46,6 +54,7 @@ struct StaticReport {
   double residualNorm = 0.0;           ///< |Q - Phi_q^T lambda|_inf at the returned q [N]
   double constraintNorm = 0.0;         ///< |Phi|_inf at the returned q
   VecX lambda;                         ///< multipliers at the returned q
+  FactorizationCounters factor;        ///< the Newton matrices' factorizations
 };
 
 /// Equilibrium at parameters p (the load factor 1 of s.paramsAt), starting from q0.
@@ -60,6 +69,7 @@ VecX solveStatic(const Assembler& as, const VecX& p, VecX q0, const StaticSettin
 struct StaticSensitivity {
   MatX qp;       ///< n x np [m per parameter unit]
   MatX lambdap;  ///< m x np
+  FactorizationCounters factor;  ///< the factorization the sensitivities took
 };
 StaticSensitivity staticSensitivities(const Assembler& as, const VecX& q, const VecX& lambda, const VecX& p);
 
