@@ -17,11 +17,11 @@ namespace {
 /// symmetric tangents agree to ~1e-16 of that scale; the refinement against A (SparseLU) sees
 /// what a tolerated asymmetry costs.
 constexpr double kSymmetryTolerance = 1e-11;
-/// MUMPS' job codes and its USE_COMM_WORLD (the sequential library's stand-in communicator).
 /// Relative pivot size (of the scaled matrix's largest entry) below which a pivot is null. The
 /// Newton matrices' smallest pivots are 1e-10-1e-6 after MUMPS' scaling (the multipliers' Schur
 /// entries); a false alarm costs only KLU's slower factorization.
 constexpr double kNullPivot = 1e-12;
+/// MUMPS' job codes and its USE_COMM_WORLD (the sequential library's stand-in communicator).
 constexpr int kInit = -1, kEnd = -2, kAnalyse = 1, kFactor = 2, kSolve = 3, kCommWorld = -987654;
 /// MUMPS errors that ask for a larger workspace (ICNTL(14), a margin in % over its estimate).
 bool workspaceTooSmall(int info) { return info == -8 || info == -9 || info == -14 || info == -15 || info == -17 || info == -20; }
