@@ -142,14 +142,6 @@ def run_process(cmd, limit, log):
     return p.returncode, rss_kb, wall, max(busy - cpu, 0.0) / wall
 
 
-def first_error(log):
-    lines = [l.strip() for l in open(log, errors="replace") if l.strip()]
-    for l in lines:
-        if re.search(r"error|fail|exception|what\(\)|abort|signal", l, re.I) and not l.startswith("flexsens: running"):
-            return l[:240]
-    return lines[-1][:240] if lines else "(no output)"
-
-
 def command(exe, kind, scene, out, newton):
     return [exe, "run", scene, "--out", out, "--newton", newton] if kind == "run" else [exe, "static", scene, "--out", out]
 
@@ -170,13 +162,13 @@ def run_case(exe, model, size, newton, nparams, limit, wd, perf_data=None):
                process_wall_s=process_wall, others_cores=others)
     summ = os.path.join(out, "summary.json")
     if code is None:
-        row.update(status="timeout", error="killed after %g s: %s" % (limit, first_error(log)))
+        row.update(status="timeout", error="killed after %g s: %s" % (limit, scaling.first_error(log)))
     elif code not in (0, 5) or not os.path.exists(summ):  # 5: complete but suspect (energy audit)
-        row.update(status="failed (exit %d)" % code, error=first_error(log))
+        row.update(status="failed (exit %d)" % code, error=scaling.first_error(log))
     else:
         row.update(counters(json.load(open(summ)), spec["kind"]))
         if code == 5:
-            row["error"] = first_error(log)
+            row["error"] = scaling.first_error(log)
     return row
 
 

@@ -256,12 +256,13 @@ def run_process(cmd, limit, log):
 
 
 def first_error(log):
-    """The first line that says what went wrong (flexsens prefixes errors with its name)."""
+    """The first line that says what went wrong (flexsens prefixes errors with its name), past
+    flexsens' "running ..." banner; else the last line. bench/continuum uses it too."""
     lines = [l.strip() for l in open(log, errors="replace") if l.strip()]
     for l in lines:
-        if re.search(r"error|fail|exception|what\(\)|abort", l, re.I) and "running" not in l:
-            return l[:200]
-    return lines[-1][:200] if lines else "(no output)"
+        if re.search(r"error|fail|exception|what\(\)|abort|signal", l, re.I) and not l.startswith("flexsens: running"):
+            return l[:240]
+    return lines[-1][:240] if lines else "(no output)"
 
 
 RUN_ARGS = []  # extra flexsens run options (--run-args), e.g. ["--newton", "modified"]
